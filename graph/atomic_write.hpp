@@ -1,0 +1,20 @@
+#pragma once
+// Outputs are written atomically: into a temporary file beside the target, then renamed, so a
+// reader (or a crash) never sees a half-written file.
+#include <filesystem>
+#include <functional>
+#include <ostream>
+
+namespace cf::graph {
+
+// Calls `write` with a binary stream to a temporary file in the target's directory, flushes,
+// checks the stream, and renames it to `path`. Creates parent directories. Throws
+// std::runtime_error naming the path on any failure (and removes the temporary file).
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
+// For writers that only take a file name (e.g. libraries): `write` gets a temporary path in the
+// same directory; after it returns the file is renamed to `path`.
+void write_atomically_via_path(const std::filesystem::path& path,
+                               const std::function<void(const std::filesystem::path& tmp)>& write);
+
+}  // namespace cf::graph

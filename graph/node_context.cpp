@@ -1,0 +1,29 @@
+#include "graph/node_context.hpp"
+
+namespace cf::graph {
+
+const Value& NodeContext::input_value(std::string_view port) const {
+    auto it = inputs_.find(std::string(port));
+    if (it == inputs_.end()) {
+        if (!type_.find_input(port)) throw std::logic_error("node type " + type_.name() + " has no input '" + std::string(port) + "'");
+        throw NodeError("input '" + std::string(port) + "' is not connected");
+    }
+    return it->second;
+}
+
+void NodeContext::set_output(std::string_view port, Value v) {
+    const PortDecl* p = type_.find_output(port);
+    if (!p) throw std::logic_error("node type " + type_.name() + " has no output '" + std::string(port) + "'");
+    if (v.type() != p->type)
+        throw std::logic_error("node type " + type_.name() + ": output '" + std::string(port) + "' expects " +
+                               p->type.name + ", got " + v.type().name);
+    outputs_[std::string(port)] = std::move(v);
+}
+
+const ParamValue& NodeContext::param(std::string_view n) const {
+    auto it = params_.find(std::string(n));
+    if (it == params_.end()) throw std::logic_error("node type " + type_.name() + " has no parameter '" + std::string(n) + "'");
+    return it->second;
+}
+
+}  // namespace cf::graph

@@ -1,0 +1,93 @@
+#pragma once
+// What a node's run function sees: its typed inputs, validated parameters, and ways to emit
+// outputs, report counts, show progress and notice cancellation.
+#include "graph/node_type.hpp"
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace cf::graph {
+
+// Thrown by a node for bad input; the executor reports it once, prefixed with the node name.
+struct NodeError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+// Thrown when the run was cancelled (Ctrl-C or another node failed).
+struct Cancelled : std::runtime_error {
+    Cancelled() : std::runtime_error("cancelled") {}
+};
+
+struct RunOptions {
+    std::filesystem::path output_dir = ".";
+    bool fast = false;  // reduced resolution for tests (nodes may lower their defaults)
+    const std::atomic<bool>* cancel_flag = nullptr;
+    std::function<void(const std::string& node, double fraction)> on_progress;
+};
+
+class NodeContext {
+public:
+    NodeContext(const NodeType& type, std::string node_name, std::map<std::string, ParamValue> params,
+                std::map<std::string, Value> inputs, const RunOptions& options, int iteration = -1)
+        : type_(type), name_(std::move(node_name)), params_(std::move(params)), inputs_(std::move(inputs)),
+          options_(options), iteration_(iteration) {}
+
+    // Inputs.
+    bool has(std::string_view port) const { return inputs_.count(std::string(port)) > 0; }
+    template <class T>
+    const T& in(std::string_view port) const { return input_value(port).get<T>(); }
+    template <class T>
+    std::shared_ptr<const T> in_ptr(std::string_view port) const { return input_value(port).ptr<T>(); }
+    const Value& input_value(std::string_view port) const;
+
+    // Outputs (every declared output must be set before run returns).
+    template <class T>
+    void out(std::string_view port, T value) { set_output(port, Value::of<T>(std::move(value))); }
+    template <class T>
+    void out_shared(std::string_view port, std::shared_ptr<const T> p) { set_output(port, Value::shared<T>(std::move(p))); }
+    void set_output(std::string_view port, Value v);
+
+    // Parameters (already validated against their declarations; defaults filled in).
+    bool boolean(std::string_view n) const { return std::get<bool>(param(n)); }
+    long long integer(std::string_view n) const { return std::get<long long>(param(n)); }
+    double real(std::string_view n) const { return std::get<double>(param(n)); }
+    const std::string& string(std::string_view n) const { return std::get<std::string>(param(n)); }
+    const std::vector<double>& reals(std::string_view n) const { return std::get<std::vector<double>>(param(n)); }
+    const ParamValue& param(std::string_view n) const;
+
+    // Reporting: counts go into report.json under this node.
+    void count(const std::string& key, double value) { counts_[key] = value; }
+    void progress(double fraction) const {
+        if (options_.on_progress) options_.on_progress(name_, fraction);
+    }
+    // Long loops call this now and then; throws Cancelled after Ctrl-C or a failure elsewhere.
+    void check_cancelled() const {
+        if (options_.cancel_flag && options_.cancel_flag->load()) throw Cancelled();
+    }
+    // Throws NodeError with the message; the executor prefixes the node name.
+    [[noreturn]] void fail(const std::string& message) const { throw NodeError(message); }
+
+    const std::string& node_name() const { return name_; }
+    const NodeType& type() const { return type_; }
+    const std::filesystem::path& output_dir() const { return options_.output_dir; }
+    bool fast() const { return options_.fast; }
+    int iteration() const { return iteration_; }  // loop iteration, -1 outside loops
+
+    const std::map<std::string, Value>& outputs() const { return outputs_; }
+    const std::map<std::string, double>& counts() const { return counts_; }
+
+private:
+    const NodeType& type_;
+    std::string name_;
+    std::map<std::string, ParamValue> params_;
+    std::map<std::string, Value> inputs_;
+    std::map<std::string, Value> outputs_;
+    std::map<std::string, double> counts_;
+    const RunOptions& options_;
+    int iteration_;
+};
+
+}  // namespace cf::graph

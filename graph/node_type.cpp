@@ -1,0 +1,61 @@
+#include "graph/node_type.hpp"
+
+#include <stdexcept>
+
+namespace cf::graph {
+
+ParamDecl& NodeType::add_param(ParamDecl p) {
+    if (find_param(p.name)) throw std::logic_error("node type " + name_ + ": duplicate parameter " + p.name);
+    params_.push_back(std::move(p));
+    return params_.back();
+}
+
+ParamDecl& NodeType::param_bool(std::string name, bool def, std::string doc) {
+    ParamDecl p;
+    p.name = std::move(name); p.kind = ParamKind::Bool; p.default_value = def; p.doc = std::move(doc);
+    return add_param(std::move(p));
+}
+ParamDecl& NodeType::param_int(std::string name, long long def, std::string doc) {
+    ParamDecl p;
+    p.name = std::move(name); p.kind = ParamKind::Int; p.default_value = def; p.doc = std::move(doc);
+    return add_param(std::move(p));
+}
+ParamDecl& NodeType::param_real(std::string name, double def, std::string unit, std::string doc) {
+    ParamDecl p;
+    p.name = std::move(name); p.kind = ParamKind::Real; p.default_value = def; p.unit = std::move(unit);
+    p.doc = std::move(doc);
+    return add_param(std::move(p));
+}
+ParamDecl& NodeType::param_string(std::string name, std::string def, std::string doc) {
+    ParamDecl p;
+    p.name = std::move(name); p.kind = ParamKind::String; p.default_value = std::move(def); p.doc = std::move(doc);
+    return add_param(std::move(p));
+}
+ParamDecl& NodeType::param_choice(std::string name, std::string def, std::vector<std::string> choices,
+                                  std::string doc) {
+    ParamDecl p;
+    p.name = std::move(name); p.kind = ParamKind::Choice; p.default_value = std::move(def);
+    p.choices = std::move(choices); p.doc = std::move(doc);
+    return add_param(std::move(p));
+}
+ParamDecl& NodeType::param_reals(std::string name, std::vector<double> def, std::string unit, std::string doc) {
+    ParamDecl p;
+    p.name = std::move(name); p.kind = ParamKind::RealList; p.default_value = std::move(def);
+    p.unit = std::move(unit); p.doc = std::move(doc);
+    return add_param(std::move(p));
+}
+
+const PortDecl* NodeType::find_input(std::string_view n) const {
+    for (const auto& p : inputs_) if (p.name == n) return &p;
+    return nullptr;
+}
+const PortDecl* NodeType::find_output(std::string_view n) const {
+    for (const auto& p : outputs_) if (p.name == n) return &p;
+    return nullptr;
+}
+const ParamDecl* NodeType::find_param(std::string_view n) const {
+    for (const auto& p : params_) if (p.name == n) return &p;
+    return nullptr;
+}
+
+}  // namespace cf::graph

@@ -1,0 +1,72 @@
+#pragma once
+// A node type: typed ports, parameters, and a run function. Declared as data in the style of
+// Blender's node declarations; the run function is a thin adapter around a plain algorithm.
+#include "graph/param.hpp"
+#include "graph/value.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace cf::graph {
+
+class NodeContext;
+
+struct PortDecl {
+    std::string name;
+    TypeId type;
+    std::string doc;
+    bool optional = false;  // inputs only: may stay unconnected
+};
+
+class NodeType {
+public:
+    using RunFn = std::function<void(NodeContext&)>;
+
+    NodeType(std::string name, std::string doc) : name_(std::move(name)), doc_(std::move(doc)) {}
+
+    template <class T>
+    NodeType& input(std::string name, std::string doc) {
+        inputs_.push_back({std::move(name), type_id<T>(), std::move(doc), false});
+        return *this;
+    }
+    template <class T>
+    NodeType& optional_input(std::string name, std::string doc) {
+        inputs_.push_back({std::move(name), type_id<T>(), std::move(doc), true});
+        return *this;
+    }
+    template <class T>
+    NodeType& output(std::string name, std::string doc) {
+        outputs_.push_back({std::move(name), type_id<T>(), std::move(doc), false});
+        return *this;
+    }
+
+    ParamDecl& param_bool(std::string name, bool def, std::string doc);
+    ParamDecl& param_int(std::string name, long long def, std::string doc);
+    ParamDecl& param_real(std::string name, double def, std::string unit, std::string doc);
+    ParamDecl& param_string(std::string name, std::string def, std::string doc);
+    ParamDecl& param_choice(std::string name, std::string def, std::vector<std::string> choices, std::string doc);
+    ParamDecl& param_reals(std::string name, std::vector<double> def, std::string unit, std::string doc);
+
+    NodeType& run(RunFn fn) { run_ = std::move(fn); return *this; }
+
+    const std::string& name() const { return name_; }
+    const std::string& doc() const { return doc_; }
+    const std::vector<PortDecl>& inputs() const { return inputs_; }
+    const std::vector<PortDecl>& outputs() const { return outputs_; }
+    const std::vector<ParamDecl>& params() const { return params_; }
+    const RunFn& run_fn() const { return run_; }
+
+    const PortDecl* find_input(std::string_view n) const;
+    const PortDecl* find_output(std::string_view n) const;
+    const ParamDecl* find_param(std::string_view n) const;
+
+private:
+    ParamDecl& add_param(ParamDecl p);
+    std::string name_, doc_;
+    std::vector<PortDecl> inputs_, outputs_;
+    std::vector<ParamDecl> params_;
+    RunFn run_;
+};
+
+}  // namespace cf::graph

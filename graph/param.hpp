@@ -1,0 +1,46 @@
+#pragma once
+// Parameter declarations: the data from which YAML validation, defaults, `crackflow nodes`,
+// docs/nodes.md and error messages all come.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace cf::graph {
+
+enum class ParamKind { Bool, Int, Real, String, Choice, RealList };
+const char* to_string(ParamKind k);
+
+using ParamValue = std::variant<bool, long long, double, std::string, std::vector<double>>;
+std::string format_param_value(const ParamValue& v);
+
+struct ParamDecl {
+    std::string name;
+    ParamKind kind = ParamKind::Real;
+    std::optional<ParamValue> default_value;  // no default: the parameter is required
+    std::string unit;                          // SI unit ("m", "Pa", "Pa*sqrt(m)"), empty if none
+    std::string doc;                           // one line
+    std::optional<double> min, max;            // numeric range (also each element of a RealList)
+    bool min_exclusive = false, max_exclusive = false;
+    std::vector<std::string> choices;          // for Choice
+    std::optional<std::size_t> list_size;      // for RealList with a fixed length
+
+    // Builder-style refinements, chained after NodeType::param_*.
+    ParamDecl& with_unit(std::string u) { unit = std::move(u); return *this; }
+    ParamDecl& range(double lo, double hi) { min = lo; max = hi; return *this; }
+    ParamDecl& above(double lo) { min = lo; min_exclusive = true; return *this; }
+    ParamDecl& at_least(double lo) { min = lo; return *this; }
+    ParamDecl& below(double hi) { max = hi; max_exclusive = true; return *this; }
+    ParamDecl& at_most(double hi) { max = hi; return *this; }
+    ParamDecl& size(std::size_t n) { list_size = n; return *this; }
+    ParamDecl& required() { default_value.reset(); return *this; }
+
+    bool is_required() const { return !default_value.has_value(); }
+    // Human-readable allowed range, e.g. "(0, 0.5)" or "one of: obj, ply".
+    std::string describe_range() const;
+    // Empty when v is acceptable, otherwise why not (without the parameter name).
+    std::string check(const ParamValue& v) const;
+};
+
+}  // namespace cf::graph

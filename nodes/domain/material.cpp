@@ -1,0 +1,23 @@
+#include "material.hpp"
+
+#include <cmath>
+
+namespace cf {
+
+void validate(const Material& m) {
+    auto need = [](bool ok, const std::string& what) {
+        if (!ok) throw std::invalid_argument(what);
+    };
+    need(std::isfinite(m.E) && m.E > 0, "material: E (Young's modulus, Pa) must be > 0, got " + std::to_string(m.E));
+    need(std::isfinite(m.nu) && m.nu > 0 && m.nu < 0.5,
+         "material: nu (Poisson's ratio) must lie in (0, 0.5), got " + std::to_string(m.nu));
+    need(std::isfinite(m.rho) && m.rho > 0, "material: rho (density, kg/m^3) must be > 0, got " + std::to_string(m.rho));
+    need(std::isfinite(m.tensile_strength) && m.tensile_strength > 0,
+         "material: tensile_strength (Pa) must be > 0, got " + std::to_string(m.tensile_strength));
+    need(std::isfinite(m.toughness) && m.toughness > 0,
+         "material: toughness (Pa*sqrt(m)) must be > 0, got " + std::to_string(m.toughness));
+    need(std::isfinite(m.compressive_factor) && m.compressive_factor >= 1,
+         "material: compressive_factor must be >= 1, got " + std::to_string(m.compressive_factor));
+}
+
+}  // namespace cf

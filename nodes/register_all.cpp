@@ -1,0 +1,30 @@
+#include "nodes/register_all.hpp"
+
+#include "nodes/registration.hpp"
+
+#include <algorithm>
+
+namespace cf {
+
+const graph::NodeRegistry& node_registry() {
+    static const graph::NodeRegistry registry = [] {
+        graph::NodeRegistry r;
+        register_core_nodes(r);
+        register_shape_nodes(r);
+        register_import_nodes(r);
+        register_export_nodes(r);
+        return r;
+    }();
+    return registry;
+}
+
+const std::vector<VerificationCase>& verification_cases() {
+    static const std::vector<VerificationCase> cases = [] {
+        std::vector<VerificationCase> c;
+        std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+        return c;
+    }();
+    return cases;
+}
+
+}  // namespace cf
