@@ -24,7 +24,7 @@ struct Cancelled : std::runtime_error {
 struct RunOptions {
     std::filesystem::path output_dir = ".";
     bool fast = false;  // reduced resolution for tests (nodes may lower their defaults)
-    const std::atomic<bool>* cancel_flag = nullptr;
+    std::atomic<bool>* cancel_flag = nullptr;  // set by Ctrl-C handlers; the executor sets it on failure too
     std::function<void(const std::string& node, double fraction)> on_progress;
 };
 

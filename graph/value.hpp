@@ -16,8 +16,8 @@ template <class T>
 struct TypeName;
 
 struct TypeId {
-    std::type_index index;
-    std::string name;
+    std::type_index index{typeid(void)};
+    std::string name = "none";
     bool operator==(const TypeId& o) const { return index == o.index; }
     bool operator!=(const TypeId& o) const { return !(*this == o); }
 };

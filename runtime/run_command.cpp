@@ -1,0 +1,110 @@
+#include "runtime/run_command.hpp"
+
+#include "graph/atomic_write.hpp"
+#include "graph/executor.hpp"
+#include "graph/pipeline.hpp"
+#include "nodes/register_all.hpp"
+#include "runtime/progress.hpp"
+#include "runtime/report.hpp"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <unistd.h>
+
+namespace cf::runtime {
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+bool load(const std::string& path, const std::vector<std::string>& overrides, bool fast, graph::Plan& plan) {
+    std::vector<graph::Diagnostic> diags;
+    graph::LoadOptions options;
+    options.fast = fast;
+    for (const auto& o : overrides)
+        if (auto parsed = graph::parse_override(o, diags)) options.overrides.push_back(*parsed);
+    plan = graph::load_pipeline_file(path, node_registry(), options, diags);
+    for (const auto& d : diags) std::fprintf(stderr, "%s\n", graph::format(d).c_str());
+    if (!diags.empty())
+        std::fprintf(stderr, "%s: %zu error%s\n", path.c_str(), diags.size(), diags.size() == 1 ? "" : "s");
+    return diags.empty();
+}
+
+}  // namespace
+
+int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides) {
+    int code = 0;
+    for (const auto& p : pipelines) {
+        graph::Plan plan;
+        if (load(p, overrides, false, plan)) std::printf("%s: ok (%zu nodes)\n", p.c_str(), plan.nodes.size());
+        else code = 2;
+    }
+    return code;
+}
+
+int graph_command(const std::string& pipeline) {
+    graph::Plan plan;
+    if (!load(pipeline, {}, false, plan)) return 2;
+    std::fputs(graph::to_dot(plan).c_str(), stdout);
+    return 0;
+}
+
+int run_command(const RunRequest& req) {
+    graph::Plan plan;
+    if (!load(req.pipeline, req.overrides, req.fast, plan)) return 2;
+    std::filesystem::path out = req.out_dir.empty()
+                                    ? std::filesystem::path("out") / std::filesystem::path(req.pipeline).stem()
+                                    : std::filesystem::path(req.out_dir);
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) {
+        std::fprintf(stderr, "crackflow run: error: cannot create output directory %s: %s\n", out.string().c_str(),
+                     ec.message().c_str());
+        return 2;
+    }
+    const int threads = req.threads > 0 ? req.threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+
+    ProgressDisplay progress(stderr, isatty(fileno(stderr)) != 0);
+    g_interrupted.store(false);
+    auto previous = std::signal(SIGINT, on_sigint);
+    graph::RunOptions options;
+    options.output_dir = out;
+    options.fast = req.fast;
+    options.cancel_flag = &g_interrupted;
+    options.on_progress = [&](const std::string& node, double f) { progress.progress(node, f); };
+    graph::ExecutionResult result = graph::execute(plan, options, &progress);
+    std::signal(SIGINT, previous);
+    progress.finish();
+
+    ReportContext ctx{req.pipeline, req.overrides, req.fast, threads};
+    const auto report = out / "report.json";
+    try {
+        graph::write_atomically(report, [&](std::ostream& o) { o << report_json(plan, result, ctx); });
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "crackflow run: error: %s\n", e.what());
+        return 1;
+    }
+    if (result.cancelled) {
+        std::fprintf(stderr, "crackflow run: cancelled after %.2f s; partial report in %s\n", result.wall_seconds,
+                     report.string().c_str());
+        return 130;
+    }
+    if (!result.ok) {
+        std::fprintf(stderr, "crackflow run: error: %s\n  (report: %s)\n", result.error.c_str(), report.string().c_str());
+        return 1;
+    }
+    std::fprintf(stderr, "crackflow run: finished in %.2f s; outputs in %s (report: %s)\n", result.wall_seconds,
+                 out.string().c_str(), report.string().c_str());
+    return 0;
+}
+
+}  // namespace cf::runtime

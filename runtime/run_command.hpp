@@ -1,0 +1,21 @@
+#pragma once
+// `crackflow run`, `validate` and `graph`: load a pipeline, report every problem at once, run it.
+#include <string>
+#include <vector>
+
+namespace cf::runtime {
+
+struct RunRequest {
+    std::string pipeline;
+    std::string out_dir;               // default: out/<pipeline name>
+    std::vector<std::string> overrides;  // NODE.PARAM=VALUE
+    int threads = 0;                   // 0: all cores
+    bool fast = false;
+};
+
+// Exit codes: 0 ok, 1 a node failed, 2 invalid pipeline or arguments, 130 cancelled (Ctrl-C).
+int run_command(const RunRequest& request);
+int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides);
+int graph_command(const std::string& pipeline);
+
+}  // namespace cf::runtime
