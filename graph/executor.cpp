@@ -281,6 +281,7 @@ private:
             it = s.iteration_have.erase(it);
             if (last) {
                 st.counts["iterations"] = iteration + 1;
+                st.peak_rss_bytes = peak_rss_bytes();
                 st.counts["stopped_by_while"] = go_on ? 0 : 1;
                 if (!st.intervals.empty()) {
                     st.intervals.back().second = seconds_since_start();

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace cf::graph {
 
@@ -34,8 +35,10 @@ JsonWriter& JsonWriter::value(double d) {
     if (!std::isfinite(d)) {
         out_ << "null";
     } else {
+        // Shortest of 15 or 17 significant digits that reads back to the same double.
         char buf[32];
-        std::snprintf(buf, sizeof buf, "%.17g", d);
+        std::snprintf(buf, sizeof buf, "%.15g", d);
+        if (std::strtod(buf, nullptr) != d) std::snprintf(buf, sizeof buf, "%.17g", d);
         out_ << buf;
     }
     return *this;

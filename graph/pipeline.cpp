@@ -30,7 +30,12 @@ struct RawNode {
     SourceLoc loc;
     std::string type;
     SourceLoc type_loc;
-    std::vector<std::pair<std::string, YAML::Node>> params;  // in file order; overrides replace
+    struct Param {
+        std::string name;
+        YAML::Node value;
+        SourceLoc key_loc, value_loc;  // overrides carry their own (--set or the fast: entry)
+    };
+    std::vector<Param> params;  // in file order; overrides replace
     std::vector<std::pair<std::string, YAML::Node>> inputs;
     std::vector<std::pair<std::string, YAML::Node>> next;
     YAML::Node while_node;
@@ -57,7 +62,7 @@ public:
 private:
     void read_nodes(const YAML::Node& map, int body_of);
     void apply_override(const Override& o);
-    std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node);
+    std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node, const SourceLoc& l);
     // scope: the loop whose body the reader sits in (-1 outside); -2 means the consumer's own.
     std::optional<PlanInput> resolve_source(const YAML::Node& src, int consumer, const std::string& what, int scope = -2);
     std::vector<std::string> all_names() const {
@@ -120,7 +125,8 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
                 n.type_loc = loc(val);
             } else if (key == "params") {
                 if (need_map("params"))
-                    for (auto p = val.begin(); p != val.end(); ++p) n.params.emplace_back(p->first.Scalar(), p->second);
+                    for (auto p = val.begin(); p != val.end(); ++p)
+                        n.params.push_back({p->first.Scalar(), p->second, loc(p->first), loc(p->second)});
             } else if (key == "inputs") {
                 if (need_map("inputs"))
                     for (auto p = val.begin(); p != val.end(); ++p) n.inputs.emplace_back(p->first.Scalar(), p->second);
@@ -162,8 +168,8 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
     }
 }
 
-std::optional<ParamValue> Loader::convert(const ParamDecl& d, const YAML::Node& v, const std::string& node) {
-    const SourceLoc l = loc(v);
+std::optional<ParamValue> Loader::convert(const ParamDecl& d, const YAML::Node& v, const std::string& node,
+                                          const SourceLoc& l) {
     const std::string where = "parameter '" + d.name + "' of node '" + node + "'";
     auto fail = [&](const std::string& why) -> std::optional<ParamValue> {
         std::string hint = d.doc;
@@ -249,12 +255,13 @@ void Loader::apply_override(const Override& o) {
         error(o.loc, "override '" + o.node + "." + o.param + "': value '" + o.value + "' is not valid YAML: " + e.msg);
         return;
     }
-    for (auto& [k, v] : raw_[i].params)
-        if (k == o.param) {
-            v = value;
+    for (auto& p : raw_[i].params)
+        if (p.name == o.param) {
+            p.value = value;
+            p.key_loc = p.value_loc = o.loc;
             return;
         }
-    raw_[i].params.emplace_back(o.param, value);
+    raw_[i].params.push_back({o.param, value, o.loc, o.loc});
 }
 
 // Resolves "node.port" (or "loop.each.var", "loop.final.var", "loop.var", "loop.iteration").
@@ -397,9 +404,9 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
         p.body_of = r.body_of;
         if (r.type == kLoopType) {
             p.max_iterations = 100;
-            for (auto& [k, v] : r.params) {
-                if (k != kMaxIterations) {
-                    error(loc(v), "unknown parameter '" + k + "' of loop '" + r.name + "'", did_you_mean(k, {kMaxIterations}));
+            for (auto& prm : r.params) {
+                if (prm.name != kMaxIterations) {
+                    error(prm.key_loc, "unknown parameter '" + prm.name + "' of loop '" + r.name + "'", did_you_mean(prm.name, {kMaxIterations}));
                     continue;
                 }
                 ParamDecl d;
@@ -408,7 +415,7 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
                 d.min = 1;
                 d.max = 1e9;
                 d.doc = "the most iterations the loop runs";
-                if (auto val = convert(d, v, r.name)) p.max_iterations = std::get<long long>(*val);
+                if (auto val = convert(d, prm.value, r.name, prm.value_loc)) p.max_iterations = std::get<long long>(*val);
             }
             continue;
         }
@@ -418,20 +425,20 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
                   did_you_mean(r.type, reg_.names()) + " (`crackflow nodes` lists all types)");
             continue;
         }
-        for (auto& [k, v] : r.params) {
-            const ParamDecl* d = p.type->find_param(k);
+        for (auto& prm : r.params) {
+            const ParamDecl* d = p.type->find_param(prm.name);
             if (!d) {
                 std::vector<std::string> names;
                 for (const auto& pd : p.type->params()) names.push_back(pd.name);
-                error(loc(v).line ? loc(v) : r.loc, "unknown parameter '" + k + "' for node '" + r.name + "' (" + r.type + ")",
-                      did_you_mean(k, names));
+                error(prm.key_loc, "unknown parameter '" + prm.name + "' for node '" + r.name + "' (" + r.type + ")",
+                      did_you_mean(prm.name, names));
                 continue;
             }
-            if (auto val = convert(*d, v, r.name)) p.params[k] = *val;
+            if (auto val = convert(*d, prm.value, r.name, prm.value_loc)) p.params[prm.name] = *val;
         }
         for (const auto& d : p.type->params()) {
             bool given = false;
-            for (auto& [k, v] : r.params) given = given || k == d.name;
+            for (auto& prm : r.params) given = given || prm.name == d.name;
             if (given) continue;
             if (d.default_value) p.params[d.name] = *d.default_value;
             else error(r.loc, "node '" + r.name + "' (" + r.type + ") is missing required parameter '" + d.name + "'",

@@ -1,0 +1,129 @@
+// The crackflow binary end to end: exit codes, error listings, report.json, Ctrl-C.
+#include "tests/harness/node_harness.hpp"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace {
+
+struct Outcome {
+    int code = -1;
+    std::string output;  // stdout and stderr
+};
+
+Outcome run_cli(const std::string& args) {
+    Outcome o;
+    std::string cmd = std::string(CRACKFLOW_EXE) + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return o;
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) o.output.append(buf, n);
+    int status = pclose(p);
+    o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return o;
+}
+
+std::string src(const std::string& rel) { return std::string(CRACKFLOW_SOURCE_DIR) + "/" + rel; }
+
+}  // namespace
+
+TEST(Cli, ValidateReportsEveryErrorOfAFileAndExits2) {
+    Outcome o = run_cli("validate " + src("tests/runtime/data/several_mistakes.yaml"));
+    EXPECT_EQ(o.code, 2) << o.output;
+    const std::string f = "several_mistakes.yaml:";
+    EXPECT_NE(o.output.find(f + "4:11: error: unknown node type 'shape.bx'"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("did you mean 'shape.box'?"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find(f + "7:22: error: parameter 'radius' of node 'sphere'"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find(f + "7:26: error: unknown parameter 'triangels'"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("did you mean 'triangles'?"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("has no output 'surface'"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("'gltf' is not allowed"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("5 errors"), std::string::npos) << o.output;
+}
+
+TEST(Cli, ValidateAcceptsShippedPipelines) {
+    Outcome o = run_cli("validate " + src("pipelines/default.yaml") + " " + src("pipelines/loop_demo.yaml"));
+    EXPECT_EQ(o.code, 0) << o.output;
+}
+
+TEST(Cli, BadOverrideIsAnInputError) {
+    Outcome o = run_cli("run " + src("pipelines/loop_demo.yaml") + " --set settle.seconds=-3 --out " +
+                        cf::testing::temp_dir("cli").string());
+    EXPECT_EQ(o.code, 2) << o.output;
+    EXPECT_NE(o.output.find("--set: error: parameter 'seconds' of node 'settle' value -3 is outside the allowed range"),
+              std::string::npos) << o.output;
+}
+
+TEST(Cli, MissingPipelineFileIsAnInputError) {
+    Outcome o = run_cli("validate /nonexistent/pipe.yaml");
+    EXPECT_EQ(o.code, 2);
+    EXPECT_NE(o.output.find("/nonexistent/pipe.yaml: error: cannot open pipeline file"), std::string::npos) << o.output;
+}
+
+TEST(Cli, RunWritesReportWithPerNodeTimesCountsAndVersions) {
+    auto dir = cf::testing::temp_dir("cli-report");
+    Outcome o = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --threads 2 --out " + dir.string());
+    ASSERT_EQ(o.code, 0) << o.output;
+    EXPECT_NE(o.output.find("outputs in " + dir.string()), std::string::npos) << o.output;
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());  // JSON is YAML
+    EXPECT_EQ(report["status"].as<std::string>(), "ok");
+    EXPECT_EQ(report["threads"].as<int>(), 2);
+    EXPECT_EQ(report["versions"]["openvdb"].as<std::string>().substr(0, 3), "10.");
+    int write_step_runs = -1, loop_iterations = -1;
+    for (const auto& n : report["nodes"]) {
+        EXPECT_TRUE(n["wall_seconds"].IsScalar());
+        EXPECT_GT(n["peak_rss_bytes"].as<long long>(), 0) << n["name"].as<std::string>();
+        if (n["name"].as<std::string>() == "write_step") write_step_runs = n["runs"].as<int>();
+        if (n["name"].as<std::string>() == "grow") loop_iterations = n["counts"]["iterations"].as<int>();
+    }
+    // length 0 -> 0.25 -> ... -> 2.0: eight iterations, the last one fails 2.0 < 2.
+    EXPECT_EQ(loop_iterations, 8);
+    EXPECT_EQ(write_step_runs, 8);
+    std::ifstream f(dir / "final_length.txt");
+    double v = 0;
+    f >> v;
+    EXPECT_DOUBLE_EQ(v, 2.0);
+}
+
+TEST(Cli, CtrlCCancelsCleanly) {
+    auto dir = cf::testing::temp_dir("cli-sigint");
+    pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        std::freopen("/dev/null", "w", stderr);
+        execl(CRACKFLOW_EXE, CRACKFLOW_EXE, "run", src("pipelines/loop_demo.yaml").c_str(), "--set", "settle.seconds=30",
+              "--out", dir.c_str(), static_cast<char*>(nullptr));
+        _exit(99);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    kill(pid, SIGINT);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+    EXPECT_EQ(report["status"].as<std::string>(), "cancelled");
+}
+
+TEST(Cli, GraphPrintsDotWithLoopCluster) {
+    Outcome o = run_cli("graph " + src("pipelines/loop_demo.yaml"));
+    EXPECT_EQ(o.code, 0) << o.output;
+    EXPECT_EQ(o.output.rfind("digraph pipeline {", 0), 0u) << o.output;
+    EXPECT_NE(o.output.find("subgraph \"cluster_grow\""), std::string::npos);
+    EXPECT_NE(o.output.find("\"settle\" -> \"grow\" [label=\"next length\""), std::string::npos) << o.output;
+}
+
+TEST(Cli, NodesJsonListsEveryRegisteredType) {
+    Outcome o = run_cli("nodes --json");
+    ASSERT_EQ(o.code, 0);
+    YAML::Node j = YAML::Load(o.output);
+    EXPECT_EQ(j["nodes"].size(), cf::node_registry().all().size());
+}
