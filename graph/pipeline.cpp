@@ -90,7 +90,7 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
         n.name = it->first.Scalar();
         n.loc = loc(it->first);
         n.body_of = body_of;
-        const YAML::Node& v = it->second;
+        const YAML::Node v = it->second;
         if (n.name.empty() || n.name.find('.') != std::string::npos) {
             error(n.loc, "node name '" + n.name + "' must be non-empty and contain no '.'",
                   "node names are referred to as NAME.port, so use letters, digits and '_'");
@@ -109,7 +109,7 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
         bool has_body = false, has_type = false;
         for (auto f = v.begin(); f != v.end(); ++f) {
             const std::string key = f->first.Scalar();
-            const YAML::Node& val = f->second;
+            const YAML::Node val = f->second;
             auto need_map = [&](const char* what) {
                 if (val.IsNull()) return false;
                 if (!val.IsMap()) {
