@@ -11,8 +11,14 @@ const graph::NodeRegistry& node_registry() {
         graph::NodeRegistry r;
         register_core_nodes(r);
         register_shape_nodes(r);
+        register_regions_nodes(r);
         register_import_nodes(r);
         register_export_nodes(r);
+        register_levelset_nodes(r);
+        register_simplify_nodes(r);
+        register_segment_nodes(r);
+        register_bem_nodes(r);
+        register_fields_nodes(r);
         return r;
     }();
     return registry;
@@ -21,6 +27,10 @@ const graph::NodeRegistry& node_registry() {
 const std::vector<VerificationCase>& verification_cases() {
     static const std::vector<VerificationCase> cases = [] {
         std::vector<VerificationCase> c;
+        add_propagate_verification_cases(c);
+        add_initiate_verification_cases(c);
+        add_levelset_verification_cases(c);
+        add_bem_verification_cases(c);
         std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
         return c;
     }();

@@ -9,10 +9,20 @@ namespace cf {
 
 void register_core_nodes(graph::NodeRegistry& r);    // nodes/core: generic value and test nodes
 void register_shape_nodes(graph::NodeRegistry& r);   // nodes/shape
+void register_regions_nodes(graph::NodeRegistry& r); // nodes/regions
 void register_import_nodes(graph::NodeRegistry& r);  // nodes/import
 void register_export_nodes(graph::NodeRegistry& r);  // nodes/export
+void register_levelset_nodes(graph::NodeRegistry& r);  // nodes/levelset (levelset.*, record.*)
+void register_simplify_nodes(graph::NodeRegistry& r);  // nodes/simplify
+void register_segment_nodes(graph::NodeRegistry& r);   // nodes/segment (segment.*, export.fragments)
+void register_bem_nodes(graph::NodeRegistry& r);       // nodes/bem (assemble.sgbem, solve.sgbem)
+void register_fields_nodes(graph::NodeRegistry& r);    // nodes/fields (fields.*: toughness and strength)
 
 // Verification cases per stage (crackflow verify).
 // (stages add: void add_<stage>_verification_cases(std::vector<VerificationCase>& cases);)
+void add_propagate_verification_cases(std::vector<VerificationCase>& cases);  // nodes/propagate: cases 6, 7
+void add_initiate_verification_cases(std::vector<VerificationCase>& cases);   // nodes/initiate: case 4
+void add_bem_verification_cases(std::vector<VerificationCase>& cases);  // nodes/bem: operator identities, cases 1-3, 5
+void add_levelset_verification_cases(std::vector<VerificationCase>& cases);  // nodes/segment: cases 9-12
 
 }  // namespace cf

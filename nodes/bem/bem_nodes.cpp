@@ -1,0 +1,121 @@
+// Node adapters for nodes/bem: assemble.sgbem (operators, append-only crack blocks) and
+// solve.sgbem (boundary conditions, factorisation reuse, crack Schur extension).
+#include "graph/node_context.hpp"
+#include "graph/registry.hpp"
+#include "nodes/bem/bem_types.hpp"
+#include "nodes/registration.hpp"
+
+#include <stdexcept>
+
+namespace cf {
+namespace {
+
+bool same_mesh(const SurfaceMesh& a, const SurfaceMesh& b) {
+    return a.vertices == b.vertices && a.triangles == b.triangles;
+}
+
+graph::NodeType assemble_node() {
+    graph::NodeType t("assemble.sgbem",
+                      "Dense SGBEM blocks V, K, D of a closed surface and W, X, Y of crack sheets (thesis eq. 2.26, 2.38). "
+                      "With 'previous', the surface blocks are reused when the surface and settings are unchanged, and only "
+                      "crack elements appended since then are integrated (each element pair exactly once).");
+    t.input<SurfaceMesh>("mesh", "closed, outward-oriented ordinary surface (BEM resolution)");
+    t.optional_input<SurfaceMesh>("cracks", "open crack sheets strictly inside the body; regions are the cracks");
+    t.optional_input<bem::BemOperators>("previous", "operators of the previous step, extended append-only");
+    t.output<bem::BemOperators>("operators", "immutable; blocks shared with 'previous' where unchanged");
+    t.param_real("E", 3.1e9, "Pa", "Young's modulus").above(0);
+    t.param_real("nu", 0.327, "", "Poisson's ratio").range(0, 0.4999);
+    t.param_int("singular_order", 5, "Gauss points per direction of the Sauter-Schwab rules (5: ~1e-5 operator error)")
+        .range(2, 10);
+    t.param_int("farfield_boost", 0, "extra far-field quadrature zones (0 = distance-based default)").range(0, 6);
+    t.param_bool("single_layer", true, "assemble V (needed only when some region has a displacement condition)");
+    t.param_real("memory_budget", 4, "GB", "refuse dense blocks above this size").above(0);
+    t.run([](graph::NodeContext& c) {
+        bem::AssemblyOptions opt;
+        opt.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
+        opt.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
+        opt.single_layer = c.boolean("single_layer");
+        opt.memory_budget_bytes = c.real("memory_budget") * 1e9;
+        Material mat;
+        mat.E = c.real("E");
+        mat.nu = c.real("nu");
+        const SurfaceMesh& mesh = c.in<SurfaceMesh>("mesh");
+        bem::BemOperators out;
+        try {
+            const bem::BemOperators* prev = c.has("previous") ? &c.in<bem::BemOperators>("previous") : nullptr;
+            const bem::ElasticConstants ec(mat.E, mat.nu);
+            if (prev && prev->surface && same_mesh(prev->surface->mesh, mesh) && prev->surface->elastic.mu == ec.mu &&
+                prev->surface->elastic.nu == ec.nu && prev->surface->options.single_layer == opt.single_layer &&
+                prev->surface->options.quadrature.singular_order == opt.quadrature.singular_order &&
+                prev->surface->options.quadrature.farfield_boost == opt.quadrature.farfield_boost) {
+                out.surface = prev->surface;
+                c.count("surface_reused", 1);
+            } else {
+                prev = nullptr;
+                out.surface = bem::assemble_surface_operators(mesh, mat, opt);
+                c.count("surface_reused", 0);
+            }
+            c.count("surface_pairs_computed", prev ? 0.0 : static_cast<double>(out.surface->pairs_computed));
+            if (c.has("cracks") && c.in<SurfaceMesh>("cracks").num_triangles() > 0) {
+                out.cracks = bem::append_crack_elements(*out.surface, prev ? prev->cracks : nullptr, c.in<SurfaceMesh>("cracks"));
+                c.count("crack_pairs_computed", static_cast<double>(out.cracks->pairs_computed_last));
+                c.count("crack_triangles", static_cast<double>(out.cracks->cracks.num_triangles()));
+            }
+        } catch (const std::invalid_argument& e) {
+            c.fail(e.what());
+        }
+        c.count("triangles", static_cast<double>(mesh.num_triangles()));
+        c.out("operators", std::move(out));
+    });
+    return t;
+}
+
+graph::NodeType solve_node() {
+    graph::NodeType t("solve.sgbem",
+                      "Solves the SGBEM system for the given boundary conditions (eq. 2.25; pure Neumann with the Tikhonov "
+                      "regulariser of ch. 7.1; cracks through the Schur complement, eq. 4.3). With 'previous', the surface "
+                      "factorisation is reused and the crack Schur factor extended when only crack unknowns were appended.");
+    t.input<bem::BemOperators>("operators", "from assemble.sgbem");
+    t.optional_input<bem::BemSolution>("previous", "solution of the previous step (factorisations to reuse)");
+    t.output<bem::BemSolution>("solution", "nodal displacements [m], element tractions [Pa], crack opening [m]");
+    t.param_string("boundary_conditions", "*: traction 0 0 0",
+                   "per region 'name: displacement x y z' [m] or 'name: traction x y z' [Pa], ';'-separated; '*' covers "
+                   "every region not named, e.g. 'z_max: traction 0 0 1e6; z_min: displacement 0 0 0; *: traction 0 0 0'");
+    t.param_real("crack_pressure", 0, "Pa", "pressure on both faces of every crack (0: traction-free)");
+    t.param_real("balance_tolerance", 1e-3, "", "pure Neumann: largest accepted relative net force/torque of the loads")
+        .above(0);
+    t.run([](graph::NodeContext& c) {
+        const bem::BemOperators& ops = c.in<bem::BemOperators>("operators");
+        const bem::BemSolution* prev = c.has("previous") ? &c.in<bem::BemSolution>("previous") : nullptr;
+        std::shared_ptr<const bem::BemSolution> sol;
+        try {
+            const bem::ResolvedConditions bc =
+                bem::resolve(bem::parse_boundary_conditions(c.string("boundary_conditions")), ops.surface->mesh);
+            bem::CrackLoads loads;
+            if (ops.cracks) loads.pressure.assign(ops.cracks->cracks.num_regions(), c.real("crack_pressure"));
+            bem::SolveOptions so;
+            so.balance_tolerance = c.real("balance_tolerance");
+            sol = bem::solve_sgbem(ops.surface, ops.cracks, bc, loads, prev, so);
+        } catch (const std::invalid_argument& e) {
+            c.fail(std::string("parameter boundary_conditions / inputs: ") + e.what());
+        } catch (const std::runtime_error& e) {
+            c.fail(e.what());
+        }
+        c.count("surface_factor_reused", sol->reused_surface_factor ? 1 : 0);
+        c.count("schur_extended", sol->extended_schur ? 1 : 0);
+        c.count("schur_rows_added", static_cast<double>(sol->schur_rows_added));
+        c.count("residual_force", sol->residual_force.norm());
+        c.count("residual_torque", sol->residual_torque.norm());
+        c.out_shared("solution", sol);
+    });
+    return t;
+}
+
+}  // namespace
+
+void register_bem_nodes(graph::NodeRegistry& r) {
+    r.add(assemble_node());
+    r.add(solve_node());
+}
+
+}  // namespace cf

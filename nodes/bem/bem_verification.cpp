@@ -1,0 +1,214 @@
+#include "nodes/bem/bem_verification.hpp"
+
+#include "nodes/bem/displacement_correlation.hpp"
+#include "nodes/bem/test_meshes.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace cf::bem {
+
+namespace {
+
+Material material_E1() {
+    Material m;
+    m.E = 1;
+    m.nu = 0.3;
+    return m;
+}
+
+std::string fmt(double x) {
+    std::ostringstream os;
+    os.precision(3);
+    os << x;
+    return os.str();
+}
+
+VerificationResult result(double err, double tol, const std::string& details) {
+    VerificationResult r;
+    r.error = err;
+    r.tolerance = tol;
+    r.passed = err <= tol;
+    r.details = details;
+    return r;
+}
+
+double rel_l2(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        num += (a[i] - b[i]).squaredNorm();
+        den += b[i].squaredNorm();
+    }
+    return std::sqrt(num / den);
+}
+
+VerificationResult operator_symmetry() {
+    const auto o = assemble_surface_operators(bem_icosphere_mesh(2, 1.0), material_E1(), AssemblyOptions{});
+    const double asym = std::max((o->V - o->V.transpose()).norm() / o->V.norm(), (o->D - o->D.transpose()).norm() / o->D.norm());
+    Eigen::SelfAdjointEigenSolver<Matrix> ev(o->V, Eigen::EigenvaluesOnly);
+    const double vmin = ev.eigenvalues().minCoeff();
+    Eigen::SelfAdjointEigenSolver<Matrix> ed(o->D, Eigen::EigenvaluesOnly);
+    const auto& e = ed.eigenvalues();
+    const double emax = e.maxCoeff();
+    int near_zero = 0;
+    for (int k = 0; k < e.size(); ++k) near_zero += std::abs(e[k]) < 1e-4 * emax;
+    VerificationResult r = result(asym, 0.0, "");
+    r.passed = asym == 0.0 && vmin > 0 && near_zero == 6 && e.minCoeff() > -1e-4 * emax;
+    r.details = "icosphere 320 triangles: |V-V^T|,|D-D^T| relative " + fmt(asym) + "; min eig V " + fmt(vmin) +
+                "; D has " + std::to_string(near_zero) + " eigenvalues below 1e-4 max (expect 6)";
+    return r;
+}
+
+VerificationResult rigid_body_kernel() {
+    const auto o = assemble_surface_operators(bem_icosphere_mesh(2, 1.0), material_E1(), AssemblyOptions{});
+    const std::size_t N = o->mesh.num_vertices();
+    Matrix R = Matrix::Zero(3 * N, 6);
+    for (std::size_t v = 0; v < N; ++v)
+        for (int k = 0; k < 3; ++k) {
+            R(3 * v + k, k) = 1;
+            Vec3 w = Vec3::Zero();
+            w[k] = 1;
+            R.block<3, 1>(3 * v, 3 + k) = w.cross(o->mesh.vertices[v]);
+        }
+    Matrix MR(3 * o->geometry.size(), 6);
+    for (int c = 0; c < 6; ++c) MR.col(c) = mass_times_nodal(*o, R.col(c));
+    const double k_res = (0.5 * MR + o->K * R).norm() / MR.norm();
+    const double d_res = (o->D * R).norm() / (o->D.norm() * R.norm());
+    return result(std::max(k_res, d_res), 1e-4,
+                  "icosphere 320 triangles, production quadrature: |(M/2+K)R|/|MR| = " + fmt(k_res) + ", |DR|/(|D||R|) = " +
+                      fmt(d_res));
+}
+
+// Exact uniaxial field u = (s/E)(-nu x, -nu y, z) on nodes.
+std::vector<Vec3> uniaxial_field(const SurfaceMesh& m, double s, const Material& mat) {
+    std::vector<Vec3> u;
+    for (const Vec3& x : m.vertices) u.push_back(s / mat.E * Vec3(-mat.nu * x.x(), -mat.nu * x.y(), x.z()));
+    return u;
+}
+
+VerificationResult cube_tension_neumann() {
+    const Material mat = material_E1();
+    const SurfaceMesh m = bem_cube_mesh(3, 1.0);
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(m, mat, opt);
+    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), m);
+    const auto sol = solve_sgbem(o, nullptr, bc, {}, nullptr);
+    const double err = rel_l2(sol->displacement, uniaxial_field(m, 1.0, mat));
+    return result(err, 1e-3, "unit cube 108 triangles, pure Neumann (eq. 7.4): relative L2 error of u " + fmt(err));
+}
+
+VerificationResult cube_tension_mixed() {
+    const Material mat = material_E1();
+    const SurfaceMesh m = bem_cube_mesh(3, 1.0);
+    const auto o = assemble_surface_operators(m, mat, AssemblyOptions{});
+    auto bc = resolve(parse_boundary_conditions("z_min: displacement 0 0 0; z_max: traction 0 0 1; *: traction 0 0 0"), m);
+    const auto exact = uniaxial_field(m, 1.0, mat);
+    for (std::size_t v = 0; v < m.num_vertices(); ++v)
+        if (bc.node_fixed[v]) bc.displacement[v] = exact[v];  // the exact field on the clamped face
+    const auto sol = solve_sgbem(o, nullptr, bc, {}, nullptr);
+    const double eu = rel_l2(sol->displacement, exact);
+    double et = 0;
+    for (std::size_t a = 0; a < m.num_triangles(); ++a)
+        if (bc.dirichlet[a]) et = std::max(et, (sol->traction[a] - Vec3(0, 0, -1)).norm());
+    return result(std::max(eu, et), 1e-3,
+                  "unit cube 108 triangles, bottom clamped with exact data: rel. L2 error of u " + fmt(eu) +
+                      ", max error of bottom traction " + fmt(et) + " (exact -1 e_z)");
+}
+
+VerificationResult sphere_radial_traction() {
+    const Material mat = material_E1();
+    const SurfaceMesh m = bem_icosphere_mesh(2, 1.0);
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(m, mat, opt);
+    BoundaryConditions b = parse_boundary_conditions("*: traction 0 0 0");
+    for (std::size_t a = 0; a < m.num_triangles(); ++a) b.element_tractions.push_back(triangle_normal(m, a));
+    const auto sol = solve_sgbem(o, nullptr, resolve(b, m), {}, nullptr);
+    std::vector<Vec3> exact;
+    for (const Vec3& x : m.vertices) exact.push_back((1 - 2 * mat.nu) / mat.E * x);
+    const double err = rel_l2(sol->displacement, exact);
+    return result(err, 1e-3, "icosphere 320 triangles, t = p n_face, pure Neumann: relative L2 error of u " + fmt(err) +
+                                 " (exact u_r = 0.4)");
+}
+
+}  // namespace
+
+PennyRun run_penny_crack(int rings, int cube_m, double grade) {
+    const Material mat = material_E1();
+    const SurfaceMesh m = bem_cube_mesh(cube_m, 10.0);
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(m, mat, opt);
+    const SurfaceMesh crack = bem_disk_mesh(rings, 1.0, Vec3::Zero(), grade);
+    const auto cr = append_crack_elements(*o, nullptr, crack);
+    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), m);
+    PennyRun run;
+    run.solution = solve_sgbem(o, cr, bc, {}, nullptr);
+    run.crack_triangles = crack.num_triangles();
+    const double c = 8 * (1 - mat.nu * mat.nu) / (M_PI * mat.E);
+    const auto& cod = run.solution->crack_opening;
+    for (std::size_t v = 0; v < crack.num_vertices(); ++v) {
+        const double r = crack.vertices[v].head<2>().norm();
+        const double ex = c * std::sqrt(1 - r * r);
+        if (r < 0.8) run.max_opening_error = std::max(run.max_opening_error, std::abs(cod[v].z() - ex) / ex);
+        if (v == 0) run.centre_opening_error = (cod[v].z() - ex) / ex;
+    }
+    const double KI = 2 / std::sqrt(M_PI);
+    const auto sifs = displacement_correlation_sifs(crack, cod, mat.E, mat.nu);
+    std::map<int, std::pair<double, int>> per_node;
+    double mean = 0;
+    for (const auto& s : sifs) {
+        mean += s.KI;
+        for (int v : {s.v0, s.v1}) {
+            per_node[v].first += s.KI;
+            per_node[v].second += 1;
+        }
+    }
+    run.mean_KI_error = std::abs(mean / sifs.size() - KI) / KI;
+    for (const auto& kv : per_node)
+        run.max_node_KI_error = std::max(run.max_node_KI_error, std::abs(kv.second.first / kv.second.second - KI) / KI);
+    return run;
+}
+
+}  // namespace cf::bem
+
+namespace cf {
+
+void add_bem_verification_cases(std::vector<VerificationCase>& cases) {
+    using namespace cf::bem;
+    cases.push_back({"operator_symmetry", "V, D exactly symmetric, V SPD, D with 6 zero eigenvalues (operator identities)",
+                     operator_symmetry});
+    cases.push_back({"rigid_body_kernel", "D r = 0 and (M01/2 + K) r = 0 for rigid motions (operator identities)",
+                     rigid_body_kernel});
+    cases.push_back({"cube_tension_neumann", "uniaxial tension of a cube, pure Neumann, patch test (case 1)", cube_tension_neumann});
+    cases.push_back({"cube_tension_mixed", "uniaxial tension of a cube, clamped bottom, patch test (case 2)", cube_tension_mixed});
+    cases.push_back({"sphere_radial_traction", "sphere under radial face-normal traction, patch test (case 3)",
+                     sphere_radial_traction});
+    cases.push_back({"penny_crack_opening", "penny crack opening vs. Sneddon, r < 0.8 a (case 5)", [] {
+                         const PennyRun r = run_penny_crack(7, 4);
+                         VerificationResult v;
+                         v.error = r.max_opening_error;
+                         v.tolerance = 0.03;
+                         v.passed = v.error <= v.tolerance;
+                         v.details = std::to_string(r.crack_triangles) + " crack triangles in a 192-triangle cube of side 10a: max " +
+                                     "rel. COD error (r < 0.8a) " + std::to_string(r.max_opening_error) + ", centre " +
+                                     std::to_string(r.centre_opening_error);
+                         return v;
+                     }});
+    cases.push_back({"penny_crack_sif", "penny crack K_I by displacement correlation (case 5, sgbem-math §5)", [] {
+                         const PennyRun r = run_penny_crack(7, 4);
+                         VerificationResult v;
+                         v.error = r.mean_KI_error;
+                         v.tolerance = 0.05;
+                         v.passed = r.mean_KI_error <= 0.05 && r.max_node_KI_error <= 0.10;
+                         v.details = std::to_string(r.crack_triangles) + " crack triangles: front-average K_I error " +
+                                     std::to_string(r.mean_KI_error) + " (bar 5%), worst front node " +
+                                     std::to_string(r.max_node_KI_error) + " (bar 10%)";
+                         return v;
+                     }});
+}
+
+}  // namespace cf

@@ -1,0 +1,114 @@
+#include "nodes/bem/boundary_conditions.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace cf::bem {
+
+namespace {
+std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) return "";
+    const auto e = s.find_last_not_of(" \t\r\n");
+    return s.substr(b, e - b + 1);
+}
+}  // namespace
+
+BoundaryConditions parse_boundary_conditions(const std::string& text) {
+    BoundaryConditions bc;
+    std::stringstream all(text);
+    std::string clause;
+    const std::string form = "expected '<region>: displacement|traction x y z' (or '*: ...' for all other regions)";
+    while (std::getline(all, clause, ';')) {
+        clause = trim(clause);
+        if (clause.empty()) continue;
+        const auto colon = clause.find(':');
+        if (colon == std::string::npos) throw std::invalid_argument("boundary condition '" + clause + "': missing ':'; " + form);
+        const std::string name = trim(clause.substr(0, colon));
+        if (name.empty()) throw std::invalid_argument("boundary condition '" + clause + "': empty region name; " + form);
+        std::istringstream rest(clause.substr(colon + 1));
+        std::string kind;
+        rest >> kind;
+        RegionCondition rc;
+        if (kind == "displacement") rc.kind = RegionCondition::Kind::displacement;
+        else if (kind == "traction") rc.kind = RegionCondition::Kind::traction;
+        else throw std::invalid_argument("boundary condition '" + clause + "': unknown kind '" + kind + "'; " + form);
+        double v[3];
+        for (double& x : v)
+            if (!(rest >> x)) throw std::invalid_argument("boundary condition '" + clause + "': needs three numbers; " + form);
+        std::string extra;
+        if (rest >> extra) throw std::invalid_argument("boundary condition '" + clause + "': unexpected '" + extra + "'; " + form);
+        rc.value = Vec3(v[0], v[1], v[2]);
+        if (name == "*") {
+            if (bc.others) throw std::invalid_argument("boundary condition '*' given twice");
+            bc.others = rc;
+        } else {
+            if (!bc.regions.emplace(name, rc).second)
+                throw std::invalid_argument("boundary condition for region '" + name + "' given twice");
+        }
+    }
+    return bc;
+}
+
+bool ResolvedConditions::pure_neumann() const {
+    for (char d : dirichlet)
+        if (d) return false;
+    return true;
+}
+
+ResolvedConditions resolve(const BoundaryConditions& bc, const SurfaceMesh& mesh) {
+    const int nreg = mesh.num_regions();
+    std::map<std::string, int> ids;
+    for (int r = 0; r < nreg; ++r) ids[mesh.region_name(r)] = r;
+    for (const auto& kv : bc.regions)
+        if (!ids.count(kv.first)) {
+            std::string known;
+            for (const auto& i : ids) known += (known.empty() ? "" : ", ") + i.first;
+            throw std::invalid_argument("boundary condition names region '" + kv.first +
+                                        "', which the mesh does not have (regions: " + known + ")");
+        }
+    std::vector<const RegionCondition*> per_region(nreg, nullptr);
+    std::vector<char> used(nreg, 0);
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) used[mesh.region_of(t)] = 1;
+    std::string uncovered;
+    for (int r = 0; r < nreg; ++r) {
+        auto it = bc.regions.find(mesh.region_name(r));
+        per_region[r] = it != bc.regions.end() ? &it->second : bc.others ? &*bc.others : nullptr;
+        if (!per_region[r] && used[r])
+            uncovered += (uncovered.empty() ? "" : ", ") + std::to_string(r) + " ('" + mesh.region_name(r) + "')";
+    }
+    if (!uncovered.empty())
+        throw std::invalid_argument("regions without a boundary condition: " + uncovered +
+                                    "; give each a 'name: traction x y z' or 'name: displacement x y z', or add '*: ...'");
+    if (!bc.element_tractions.empty() && bc.element_tractions.size() != mesh.num_triangles())
+        throw std::invalid_argument("per-element tractions: " + std::to_string(bc.element_tractions.size()) +
+                                    " values for " + std::to_string(mesh.num_triangles()) + " triangles");
+    ResolvedConditions out;
+    const std::size_t M = mesh.num_triangles(), N = mesh.num_vertices();
+    out.dirichlet.assign(M, 0);
+    out.traction.assign(M, Vec3::Zero());
+    out.node_fixed.assign(N, 0);
+    out.displacement.assign(N, Vec3::Zero());
+    std::vector<int> node_region(N, -1);
+    for (std::size_t t = 0; t < M; ++t) {
+        const int r = mesh.region_of(t);
+        const RegionCondition& rc = *per_region[r];
+        if (rc.kind == RegionCondition::Kind::displacement) {
+            out.dirichlet[t] = 1;
+            for (int v : mesh.triangles[t]) {
+                if (out.node_fixed[v] && (out.displacement[v] - rc.value).norm() > 1e-12 * (1 + rc.value.norm()))
+                    throw std::invalid_argument("node " + std::to_string(v) + " is shared by Dirichlet regions '" +
+                                                mesh.region_name(node_region[v]) + "' and '" + mesh.region_name(r) +
+                                                "' with different displacements; make them equal or make one a traction");
+                out.node_fixed[v] = 1;
+                out.displacement[v] = rc.value;
+                node_region[v] = r;
+            }
+        } else {
+            out.traction[t] = rc.value + (bc.element_tractions.empty() ? Vec3::Zero() : bc.element_tractions[t]);
+        }
+    }
+    return out;
+}
+
+}  // namespace cf::bem

@@ -1,0 +1,28 @@
+#pragma once
+// Stress intensity factors by displacement correlation (thesis eq. 2.39 with the full-jump
+// constant of sgbem-math.md §5/§9): with the full jump [u] = u+ - u- at distance d behind the
+// front, K_I = mu sqrt(2 pi) [u].e2 / (4 (1-nu) sqrt d), K_II likewise with e1,
+// K_III = mu sqrt(2 pi) [u].e3 / (4 sqrt d). (Eq. 2.39's mu sqrt(pi) du / (c sqrt(2d)) holds for the
+// one-face displacement, half the jump.)
+#include "nodes/domain/surface_mesh.hpp"
+
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace cf::bem {
+
+struct FrontEdgeSif {
+    int v0 = -1, v1 = -1;  // front edge (crack mesh vertex ids)
+    int interior = -1;     // third node of the front triangle, where [u] is read
+    double d = 0;          // its distance behind the front edge [m]
+    Vec3 e1, e2, e3;       // tip frame: propagation direction, crack normal, front tangent
+    double KI = 0, KII = 0, KIII = 0;  // [Pa sqrt(m)]
+};
+
+// One entry per boundary edge of the crack sheets. Throws std::invalid_argument when a front
+// triangle has no interior third node.
+std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& cracks, const std::vector<Vec3>& opening,
+                                                        double E, double nu);
+
+}  // namespace cf::bem

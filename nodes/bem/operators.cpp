@@ -1,0 +1,213 @@
+#include "nodes/bem/operators.hpp"
+
+#include "nodes/bem/surface_intersection.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <sstream>
+#include <stdexcept>
+
+namespace cf::bem {
+
+double surface_operator_bytes(std::size_t M, std::size_t N, bool single_layer) {
+    const double m = 3.0 * M, n = 3.0 * N;
+    return 8.0 * ((single_layer ? m * m : 0.0) + 2 * m * n + n * n);
+}
+
+double crack_operator_bytes(std::size_t Ms, std::size_t Ns, std::size_t Nc) {
+    const double c = 3.0 * Nc;
+    return 8.0 * (3.0 * Ms * c + 3.0 * Ns * c + c * c) * 2;  // copy-on-write keeps the previous step
+}
+
+void check_memory_budget(double bytes, double budget, const std::string& what) {
+    if (bytes > budget) {
+        std::ostringstream os;
+        os.precision(3);
+        os << what << " needs " << bytes / 1e9 << " GB of dense matrices, above the memory budget of " << budget / 1e9
+           << " GB; use a coarser BEM mesh (fewer triangles) or raise the memory budget parameter";
+        throw std::invalid_argument(os.str());
+    }
+}
+
+std::vector<std::vector<int>> colour_elements(const std::vector<ElementGeometry>& g, std::size_t first, std::size_t last) {
+    int max_node = -1;
+    for (std::size_t e = first; e < last; ++e)
+        for (int v : g[e].nodes) max_node = std::max(max_node, v);
+    std::vector<std::vector<int>> node_elems(max_node + 1);
+    std::vector<int> colour(last - first, -1);
+    std::vector<std::vector<int>> groups;
+    std::vector<char> used;
+    for (std::size_t e = first; e < last; ++e) {
+        used.assign(groups.size() + 1, 0);
+        for (int v : g[e].nodes)
+            for (int o : node_elems[v]) used[colour[o - first]] = 1;
+        int c = 0;
+        while (used[c]) ++c;
+        colour[e - first] = c;
+        if (c == static_cast<int>(groups.size())) groups.emplace_back();
+        groups[c].push_back(static_cast<int>(e));
+        for (int v : g[e].nodes) node_elems[v].push_back(static_cast<int>(e));
+    }
+    return groups;
+}
+
+namespace {
+
+template <class Fn>
+void for_each_colour(const std::vector<std::vector<int>>& groups, Fn fn) {
+    for (const auto& grp : groups)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grp.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) fn(grp[i]);
+        });
+}
+
+template <class Mat>
+void add_block(Mat& m, Eigen::Index r, Eigen::Index c, const Mat3& b) {
+    m.template block<3, 3>(r, c) += b;
+}
+
+}  // namespace
+
+std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const SurfaceMesh& mesh, const Material& material,
+                                                                   const AssemblyOptions& options) {
+    validate(material);
+    if (mesh.triangles.empty()) throw std::invalid_argument("BEM surface mesh has no triangles");
+    check_memory_budget(surface_operator_bytes(mesh.num_triangles(), mesh.num_vertices(), options.single_layer),
+                        options.memory_budget_bytes,
+                        "BEM assembly of " + std::to_string(mesh.num_triangles()) + " triangles");
+    auto out = std::make_shared<SurfaceOperators>();
+    out->mesh = mesh;
+    out->elastic = ElasticConstants(material.E, material.nu);
+    out->options = options;
+    out->geometry = element_geometries(mesh, "BEM surface mesh");
+    const auto& g = out->geometry;
+    const Eigen::Index M = static_cast<Eigen::Index>(g.size()), N = static_cast<Eigen::Index>(mesh.num_vertices());
+    const PairQuadrature quad(options.quadrature);
+    const ElasticConstants ec = out->elastic;
+    if (options.single_layer) out->V = Matrix::Zero(3 * M, 3 * M);
+    Matrix KU = Matrix::Zero(3 * M, 3 * N), KL = Matrix::Zero(3 * M, 3 * N), H = Matrix::Zero(3 * N, 3 * N);
+    Matrix& V = out->V;
+    // Task b owns: columns nodes(b) of KU and H, row b of KL; V entries of pairs (a, b) are unique.
+    for_each_colour(colour_elements(g, 0, g.size()), [&](int b) {
+        const ElementGeometry& gb = g[b];
+        for (int a = 0; a <= b; ++a) {
+            const ElementGeometry& ga = g[a];
+            const PairIntegrals p = pair_integrals(ga, gb, true, quad);
+            const Mat3 P = guenter_kernel(p, ec);
+            if (options.single_layer) {
+                const Mat3 U = single_layer_block(p, ec);
+                V.block<3, 3>(3 * a, 3 * b) = U;
+                if (a != b) V.block<3, 3>(3 * b, 3 * a) = U;
+            }
+            for (int be = 0; be < 3; ++be) add_block(KU, 3 * a, 3 * gb.nodes[be], double_layer_block(p.IKb[be], P, gb.M[be]));
+            if (a != b)
+                for (int al = 0; al < 3; ++al)
+                    add_block(KL, 3 * b, 3 * ga.nodes[al], double_layer_block(p.IKa[al], P, ga.M[al]));
+            const double half = (a == b) ? 0.5 : 1.0;
+            for (int al = 0; al < 3; ++al)
+                for (int be = 0; be < 3; ++be)
+                    add_block(H, 3 * ga.nodes[al], 3 * gb.nodes[be], half * hypersingular_block(ga, al, gb, be, p.I1, P, ec));
+        }
+    });
+    out->K = KU + KL;
+    KU.resize(0, 0);
+    KL.resize(0, 0);
+    out->D = H + H.transpose();
+    out->pairs_computed = static_cast<std::int64_t>(M) * (M + 1) / 2;
+    return out;
+}
+
+std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
+                                                            const std::shared_ptr<const CrackOperators>& previous,
+                                                            const SurfaceMesh& cracks) {
+    const std::size_t old_tris = previous ? previous->cracks.num_triangles() : 0;
+    const std::size_t old_verts = previous ? previous->cracks.num_vertices() : 0;
+    if (previous) {
+        const SurfaceMesh& pc = previous->cracks;
+        bool prefix = cracks.num_triangles() >= old_tris && cracks.num_vertices() >= old_verts;
+        for (std::size_t t = 0; prefix && t < old_tris; ++t) prefix = cracks.triangles[t] == pc.triangles[t];
+        for (std::size_t v = 0; prefix && v < old_verts; ++v) prefix = cracks.vertices[v] == pc.vertices[v];
+        if (!prefix)
+            throw std::invalid_argument("crack mesh does not extend the previously assembled one (" + std::to_string(old_tris) +
+                                        " triangles, " + std::to_string(old_verts) +
+                                        " vertices must stay unchanged at the front); crack elements can only be appended");
+    }
+    check_memory_budget(crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), cracks.num_vertices()),
+                        surface.options.memory_budget_bytes,
+                        "crack blocks for " + std::to_string(cracks.num_vertices()) + " crack nodes");
+    auto out = previous ? std::make_shared<CrackOperators>(*previous) : std::make_shared<CrackOperators>();
+    out->cracks = cracks;
+    for (std::size_t t = old_tris; t < cracks.num_triangles(); ++t) {
+        try {
+            out->geometry.push_back(element_geometry(cracks, t));
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string("crack mesh (crack '") + cracks.region_name(cracks.region_of(t)) +
+                                        "'): " + e.what());
+        }
+    }
+    check_crack_clear_of_surface(surface.geometry, out->geometry, old_tris, cracks);
+    const Eigen::Index Ms = static_cast<Eigen::Index>(surface.geometry.size());
+    const Eigen::Index Ns = static_cast<Eigen::Index>(surface.mesh.num_vertices());
+    const Eigen::Index Nc = static_cast<Eigen::Index>(cracks.num_vertices()), Nc0 = static_cast<Eigen::Index>(old_verts);
+    auto grow = [&](Matrix& m, Eigen::Index rows, Eigen::Index cols, Eigen::Index old_rows, Eigen::Index old_cols) {
+        m.conservativeResize(rows, cols);
+        m.rightCols(cols - old_cols).setZero();
+        m.bottomRows(rows - old_rows).setZero();
+    };
+    grow(out->W, 3 * Ms, 3 * Nc, 3 * Ms, 3 * Nc0);
+    grow(out->X, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
+    grow(out->HY, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
+    const PairQuadrature quad(surface.options.quadrature);
+    const ElasticConstants ec = surface.elastic;
+    const auto& gs = surface.geometry;
+    const auto& gc = out->geometry;
+    Matrix& W = out->W;
+    Matrix& X = out->X;
+    Matrix& HY = out->HY;
+    // Task b (a new crack element) owns the columns nodes(b) of W, X and HY.
+    for_each_colour(colour_elements(gc, old_tris, gc.size()), [&](int b) {
+        const ElementGeometry& gb = gc[b];
+        for (Eigen::Index a = 0; a < Ms; ++a) {
+            const ElementGeometry& ga = gs[a];
+            const PairIntegrals p = pair_integrals(ga, gb, false, quad);
+            const Mat3 P = guenter_kernel(p, ec);
+            for (int be = 0; be < 3; ++be) {
+                add_block(W, 3 * a, 3 * gb.nodes[be], double_layer_block(p.IKb[be], P, gb.M[be]));
+                for (int al = 0; al < 3; ++al)
+                    add_block(X, 3 * ga.nodes[al], 3 * gb.nodes[be], hypersingular_block(ga, al, gb, be, p.I1, P, ec));
+            }
+        }
+        for (int a = 0; a <= b; ++a) {
+            const ElementGeometry& ga = gc[a];
+            const PairIntegrals p = pair_integrals(ga, gb, true, quad);
+            const Mat3 P = guenter_kernel(p, ec);
+            const double half = (a == b) ? 0.5 : 1.0;
+            for (int al = 0; al < 3; ++al)
+                for (int be = 0; be < 3; ++be)
+                    add_block(HY, 3 * ga.nodes[al], 3 * gb.nodes[be], half * hypersingular_block(ga, al, gb, be, p.I1, P, ec));
+        }
+    });
+    std::int64_t added = 0;
+    for (std::size_t b = old_tris; b < gc.size(); ++b) added += static_cast<std::int64_t>(Ms) + static_cast<std::int64_t>(b) + 1;
+    out->pairs_computed_last = added;
+    out->pairs_computed += added;
+    return out;
+}
+
+Vector mass_times_nodal(const SurfaceOperators& s, const Vector& u) {
+    Vector out = Vector::Zero(3 * s.geometry.size());
+    for (std::size_t a = 0; a < s.geometry.size(); ++a)
+        for (int v : s.geometry[a].nodes) out.segment<3>(3 * a) += s.geometry[a].area / 3 * u.segment<3>(3 * v);
+    return out;
+}
+
+Vector mass_transpose_times_elemental(const SurfaceOperators& s, const Vector& t) {
+    Vector out = Vector::Zero(3 * s.mesh.num_vertices());
+    for (std::size_t a = 0; a < s.geometry.size(); ++a)
+        for (int v : s.geometry[a].nodes) out.segment<3>(3 * v) += s.geometry[a].area / 3 * t.segment<3>(3 * a);
+    return out;
+}
+
+}  // namespace cf::bem

@@ -1,0 +1,86 @@
+#pragma once
+// Dense Galerkin blocks of the Lame SGBEM (eq. 2.25/2.26, 2.38), assembled in parallel with
+// oneTBB. Results are bit-identical for any thread count: elements are coloured so that no two
+// elements of one colour share a node; colours run one after another, elements of a colour in
+// parallel, and each element-pair contribution is added by exactly one task in a fixed order.
+// Symmetric blocks are computed from the upper triangle of element pairs only (D = H + H^T),
+// which makes them exactly symmetric.
+#include "nodes/bem/element_geometry.hpp"
+#include "nodes/bem/local_blocks.hpp"
+#include "nodes/bem/pair_integrals.hpp"
+#include "nodes/domain/material.hpp"
+#include "nodes/domain/surface_mesh.hpp"
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace cf::bem {
+
+using Matrix = Eigen::MatrixXd;
+using Vector = Eigen::VectorXd;
+
+struct AssemblyOptions {
+    QuadratureSettings quadrature;
+    bool single_layer = true;             // V is needed only when some region is Dirichlet
+    double memory_budget_bytes = 4e9;     // refuse dense allocations above this
+};
+
+// Blocks over the ordinary surface Gamma. Unknown numbering: element a, component j -> 3a+j;
+// node i, component j -> 3i+j.
+struct SurfaceOperators {
+    SurfaceMesh mesh;
+    ElasticConstants elastic;
+    AssemblyOptions options;
+    std::vector<ElementGeometry> geometry;
+    Matrix V;  // 3M x 3M  (empty if !options.single_layer)
+    Matrix K;  // 3M x 3N  P0 test x P1 trial
+    Matrix D;  // 3N x 3N
+    std::int64_t pairs_computed = 0;  // element-pair integrals evaluated
+};
+
+// Crack sheets Sigma (open triangle sheets; one SurfaceMesh, its regions are the cracks) and the
+// blocks W = K[Gamma elements, Sigma nodes], X = D[Gamma nodes, Sigma nodes] and
+// Y = D[Sigma nodes, Sigma nodes] (eq. 2.38) over ALL crack nodes (front nodes included; the
+// solver keeps only interior nodes). Append-only: adding elements computes only new pairs.
+struct CrackOperators {
+    SurfaceMesh cracks;
+    std::vector<ElementGeometry> geometry;
+    Matrix W;   // 3M_Gamma x 3N_Sigma
+    Matrix X;   // 3N_Gamma x 3N_Sigma
+    Matrix HY;  // upper part: Y = HY + HY^T
+    std::int64_t pairs_computed = 0;        // over the whole history of appends
+    std::int64_t pairs_computed_last = 0;   // in the last append
+    Matrix Y() const { return HY + HY.transpose(); }
+};
+
+// Bytes the dense blocks of a surface with the given counts need (peak during assembly).
+double surface_operator_bytes(std::size_t triangles, std::size_t vertices, bool single_layer);
+double crack_operator_bytes(std::size_t surface_triangles, std::size_t surface_vertices, std::size_t crack_vertices);
+// Throws std::invalid_argument with both numbers and the way out when bytes > budget.
+void check_memory_budget(double bytes, double budget, const std::string& what);
+
+// Assembles V, K, D on a closed surface. Throws std::invalid_argument for degenerate triangles
+// or an over-budget size (before allocating).
+std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const SurfaceMesh& mesh, const Material& material,
+                                                                   const AssemblyOptions& options);
+
+// Returns crack blocks for `cracks`, reusing `previous` (may be null). `cracks` must extend
+// previous->cracks: same leading vertices and triangles, new ones appended. Throws
+// std::invalid_argument when it does not, when a crack triangle is degenerate, or when a crack
+// triangle intersects the ordinary surface.
+std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
+                                                            const std::shared_ptr<const CrackOperators>& previous,
+                                                            const SurfaceMesh& cracks);
+
+// P0 x P1 mass matrix M01[a, (a, alpha)] = |T_a|/3 I applied to a nodal vector (3N -> 3M) and its transpose.
+Vector mass_times_nodal(const SurfaceOperators& s, const Vector& nodal);
+Vector mass_transpose_times_elemental(const SurfaceOperators& s, const Vector& elemental);
+
+// Greedy element colouring: no two elements of one colour share a vertex. Returns colour lists.
+std::vector<std::vector<int>> colour_elements(const std::vector<ElementGeometry>& g, std::size_t first, std::size_t last);
+
+}  // namespace cf::bem
+
+CF_GRAPH_TYPE(cf::bem::SurfaceOperators, "BemSurfaceOperators");

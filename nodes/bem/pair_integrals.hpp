@@ -1,0 +1,49 @@
+#pragma once
+// Element-pair integrals from which every Galerkin block is built (sgbem-math.md §2):
+//   I1 = int_a int_b 1/r,  IR = int_a int_b d d^T / r^3  (d = x - y, x in a, y in b),
+//   IKb[beta]  = int_a int_b (x-y).n_b / r^3 lambda_beta(y)   (Laplace double layer, trial b),
+//   IKa[alpha] = int_a int_b (y-x).n_a / r^3 lambda_alpha(x)  (the same with the roles swapped).
+// They depend on geometry only, not on the material. Touching pairs use Sauter-Schwab rules,
+// separated pairs a regular rule chosen by distance/size (quadrature.hpp).
+#include "nodes/bem/element_geometry.hpp"
+#include "nodes/bem/quadrature.hpp"
+
+namespace cf::bem {
+
+struct PairIntegrals {
+    double I1 = 0;
+    double IR[6] = {0, 0, 0, 0, 0, 0};  // xx, yy, zz, xy, xz, yz
+    double IKb[3] = {0, 0, 0};         // local vertex order of b
+    double IKa[3] = {0, 0, 0};         // local vertex order of a
+};
+
+struct QuadratureSettings {
+    int singular_order = 5;  // Gauss points per direction of the Sauter-Schwab rules (5 = production)
+    int farfield_boost = 0;  // zones added to the distance-based far-field choice
+    int fixed_regular = 0;   // > 0: n x n collapsed Gauss for every separated pair (oracle comparisons)
+};
+
+// The pair rules for one setting, built once and shared.
+class PairQuadrature {
+public:
+    explicit PairQuadrature(const QuadratureSettings& s);
+    const QuadratureSettings& settings() const { return settings_; }
+    const PairRule& singular(PairKind k) const { return k == PairKind::identical ? id_ : k == PairKind::common_edge ? edge_ : vert_; }
+    const TriangleRule& regular(double rho) const {
+        return fixed_.size() ? fixed_ : regular_zone_rule(regular_zone(rho, settings_.farfield_boost));
+    }
+
+private:
+    QuadratureSettings settings_;
+    TriangleRule fixed_;
+    PairRule id_, edge_, vert_;
+};
+
+// Integrals of the pair (a, b). `same_mesh` says whether a and b index the same vertex array
+// (only then can they touch). Pairs with a shared vertex id use Sauter-Schwab.
+PairIntegrals pair_integrals(const ElementGeometry& a, const ElementGeometry& b, bool same_mesh, const PairQuadrature& q);
+
+// rho = |c_a - c_b| / max(diameters), the far-field zoning ratio.
+double separation_ratio(const ElementGeometry& a, const ElementGeometry& b);
+
+}  // namespace cf::bem

@@ -1,0 +1,332 @@
+#include "nodes/bem/solver.hpp"
+
+#include <algorithm>
+#include <map>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace cf::bem {
+
+namespace {
+
+std::vector<Eigen::Index> dofs3(const std::vector<int>& ids) {
+    std::vector<Eigen::Index> out;
+    out.reserve(3 * ids.size());
+    for (int i : ids)
+        for (int j = 0; j < 3; ++j) out.push_back(3 * static_cast<Eigen::Index>(i) + j);
+    return out;
+}
+
+Matrix solve_matrix(const SurfaceSystem& s, const Matrix& f) {
+    if (s.pure_neumann) return s.r_factor.solve(f);
+    const Eigen::Index nd = 3 * static_cast<Eigen::Index>(s.d_elements.size());
+    const Eigen::Index nn = 3 * static_cast<Eigen::Index>(s.n_nodes.size());
+    Matrix out(nd + nn, f.cols());
+    if (nd == 0) {
+        out = s.s_factor.solve(f);
+        return out;
+    }
+    const Matrix y1 = s.v_factor.solve(f.topRows(nd));
+    if (nn == 0) return y1;
+    const auto idxD = dofs3(s.d_elements);
+    const auto idxN = dofs3(s.n_nodes);
+    const Matrix Kdn = s.ops->K(idxD, idxN);
+    const Matrix u = s.s_factor.solve(f.bottomRows(nn) - Kdn.transpose() * y1);
+    out.topRows(nd) = y1 + s.v_inv_k * u;
+    out.bottomRows(nn) = u;
+    return out;
+}
+
+void require(bool ok, const std::string& what) {
+    if (!ok) throw std::runtime_error(what);
+}
+
+std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const SurfaceOperators>& ops,
+                                                    const ResolvedConditions& bc) {
+    auto sys = std::make_shared<SurfaceSystem>();
+    sys->ops = ops;
+    sys->dirichlet = bc.dirichlet;
+    sys->pure_neumann = bc.pure_neumann();
+    const SurfaceOperators& o = *ops;
+    const std::size_t N = o.mesh.num_vertices();
+    if (sys->pure_neumann) {
+        // Regulariser rows (eq. 7.2, 7.3), positions relative to the area centroid.
+        double A = 0;
+        Vec3 c = Vec3::Zero();
+        for (const auto& g : o.geometry) {
+            A += g.area;
+            c += g.area * g.centroid;
+        }
+        c /= A;
+        sys->T = Matrix::Zero(6, 3 * N);
+        for (const auto& g : o.geometry) {
+            const Vec3 sum = g.p[0] + g.p[1] + g.p[2] - 3 * c;
+            for (int i = 0; i < 3; ++i) {
+                const int v = g.nodes[i];
+                const double w = g.area / (3 * A);
+                const Vec3 xb = 0.25 * (g.p[i] - c + sum);
+                for (int j = 0; j < 3; ++j) sys->T(j, 3 * v + j) += w;
+                // u x xb = -[xb]_x u
+                Mat3 cx;
+                cx << 0, -xb.z(), xb.y(), xb.z(), 0, -xb.x(), -xb.y(), xb.x(), 0;
+                sys->T.block<3, 3>(3, 3 * v) -= w * cx;
+            }
+        }
+        const double g = o.D.trace() / (3.0 * N);
+        sys->gamma = g * g;
+        Matrix DR = o.D.transpose() * o.D;
+        DR.noalias() += sys->gamma * sys->T.transpose() * sys->T;
+        sys->r_factor.compute(DR);
+        require(sys->r_factor.info() == Eigen::Success,
+                "regularised Neumann matrix D_R (eq. 7.4) is not positive definite; is the surface closed and consistently oriented?");
+        return sys;
+    }
+    if (o.V.size() == 0)
+        throw std::invalid_argument("the operators were assembled without the single layer V, but the boundary conditions have "
+                                    "displacement regions; assemble with single_layer = true");
+    for (std::size_t a = 0; a < bc.dirichlet.size(); ++a)
+        if (bc.dirichlet[a]) sys->d_elements.push_back(static_cast<int>(a));
+    for (std::size_t v = 0; v < N; ++v)
+        if (!bc.node_fixed[v]) sys->n_nodes.push_back(static_cast<int>(v));
+    const auto idxD = dofs3(sys->d_elements);
+    const auto idxN = dofs3(sys->n_nodes);
+    sys->v_factor.compute(o.V(idxD, idxD));
+    require(sys->v_factor.info() == Eigen::Success, "single-layer block V_DD is not positive definite");
+    if (!idxN.empty()) {
+        const Matrix Kdn = o.K(idxD, idxN);
+        sys->v_inv_k = sys->v_factor.solve(Kdn);
+        Matrix S = o.D(idxN, idxN);
+        S.noalias() += Kdn.transpose() * sys->v_inv_k;
+        sys->s_factor.compute(S);
+        require(sys->s_factor.info() == Eigen::Success, "SGBEM complement D_NN + K^T V^-1 K is not positive definite");
+    }
+    return sys;
+}
+
+struct CrackCoupling {
+    Matrix B, C;  // size(s) x k and k x size(s)
+};
+
+CrackCoupling coupling(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<int>& nodes) {
+    const auto idxC = dofs3(nodes);
+    CrackCoupling out;
+    if (sys.pure_neumann) {
+        const Matrix Xc = cr.X(Eigen::all, idxC);
+        out.B = sys.ops->D.transpose() * Xc;
+        out.C = Xc.transpose();
+        return out;
+    }
+    const auto idxD = dofs3(sys.d_elements);
+    const auto idxN = dofs3(sys.n_nodes);
+    const Eigen::Index nd = idxD.size(), nn = idxN.size(), k = idxC.size();
+    out.B.resize(nd + nn, k);
+    out.B.topRows(nd) = -cr.W(idxD, idxC);
+    out.B.bottomRows(nn) = cr.X(idxN, idxC);
+    out.C = out.B.transpose();
+    out.C.leftCols(nd) *= -1;
+    return out;
+}
+
+}  // namespace
+
+Eigen::Index SurfaceSystem::size() const {
+    return pure_neumann ? 3 * static_cast<Eigen::Index>(ops->mesh.num_vertices())
+                        : 3 * static_cast<Eigen::Index>(d_elements.size() + n_nodes.size());
+}
+
+Vector SurfaceSystem::solve(const Vector& f) const { return solve_matrix(*this, f); }
+
+std::vector<char> crack_interior_nodes(const SurfaceMesh& cracks) {
+    std::vector<char> interior(cracks.num_vertices(), 0);
+    std::map<std::pair<int, int>, int> edges;
+    for (const Tri& t : cracks.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const int a = t[k], b = t[(k + 1) % 3];
+            ++edges[{std::min(a, b), std::max(a, b)}];
+        }
+    for (const Tri& t : cracks.triangles)
+        for (int v : t) interior[v] = 1;
+    for (const auto& e : edges) {
+        if (e.second > 2)
+            throw std::invalid_argument("crack mesh edge (" + std::to_string(e.first.first) + ", " +
+                                        std::to_string(e.first.second) + ") has " + std::to_string(e.second) +
+                                        " triangles; crack sheets must be manifold");
+        if (e.second == 1) interior[e.first.first] = interior[e.first.second] = 0;
+    }
+    return interior;
+}
+
+void load_resultants(const SurfaceOperators& s, const std::vector<Vec3>& traction, Vec3& force, Vec3& torque) {
+    double A = 0;
+    Vec3 c = Vec3::Zero();
+    for (const auto& g : s.geometry) {
+        A += g.area;
+        c += g.area * g.centroid;
+    }
+    c /= A;
+    force.setZero();
+    torque.setZero();
+    for (std::size_t a = 0; a < s.geometry.size(); ++a) {
+        force += s.geometry[a].area * traction[a];
+        torque += s.geometry[a].area * (s.geometry[a].centroid - c).cross(traction[a]);
+    }
+}
+
+std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const SurfaceOperators>& surface,
+                                               const std::shared_ptr<const CrackOperators>& cracks,
+                                               const ResolvedConditions& bc, const CrackLoads& loads,
+                                               const BemSolution* previous, const SolveOptions& options) {
+    const SurfaceOperators& o = *surface;
+    const std::size_t M = o.geometry.size(), N = o.mesh.num_vertices();
+    if (bc.dirichlet.size() != M || bc.node_fixed.size() != N)
+        throw std::invalid_argument("boundary conditions were resolved on a different mesh (" +
+                                    std::to_string(bc.dirichlet.size()) + " triangles, operators have " +
+                                    std::to_string(M) + ")");
+    auto sol = std::make_shared<BemSolution>();
+    sol->surface = surface;
+    sol->cracks = cracks;
+    if (bc.pure_neumann()) {
+        load_resultants(o, bc.traction, sol->residual_force, sol->residual_torque);
+        double fref = 0, L = (bounding_box(o.mesh).extent()).norm();
+        for (std::size_t a = 0; a < M; ++a) fref += o.geometry[a].area * bc.traction[a].norm();
+        if (fref > 0 && (sol->residual_force.norm() > options.balance_tolerance * fref ||
+                         sol->residual_torque.norm() > options.balance_tolerance * fref * L)) {
+            std::ostringstream os;
+            os.precision(4);
+            os << "pure Neumann loads are not balanced: net force " << sol->residual_force.transpose() << " N and torque "
+               << sol->residual_torque.transpose() << " N m (relative " << sol->residual_force.norm() / fref << " and "
+               << sol->residual_torque.norm() / (fref * L) << ", tolerance " << options.balance_tolerance
+               << "); fix the tractions so they sum to zero, or hold a region with a displacement condition";
+            throw std::invalid_argument(os.str());
+        }
+    }
+    // Surface factorisation: reuse when operators and partition are the same.
+    if (previous && previous->system && previous->system->ops == surface && previous->system->dirichlet == bc.dirichlet) {
+        sol->system = previous->system;
+        sol->reused_surface_factor = true;
+    } else {
+        sol->system = factor_surface(surface, bc);
+    }
+    const SurfaceSystem& sys = *sol->system;
+    // Known data: g~ (P1, on closure of Gamma_D) and f~ (P0, on Gamma_N).
+    Vector g = Vector::Zero(3 * N), f = Vector::Zero(3 * M);
+    for (std::size_t v = 0; v < N; ++v) g.segment<3>(3 * v) = bc.displacement[v];
+    for (std::size_t a = 0; a < M; ++a) f.segment<3>(3 * a) = bc.traction[a];
+    // Right-hand sides of eq. (2.27) / (7.4).
+    Vector rhs;
+    if (sys.pure_neumann) {
+        const Vector fN = 0.5 * mass_transpose_times_elemental(o, f) - o.K.transpose() * f;
+        rhs = o.D.transpose() * fN;
+    } else {
+        Vector r1 = 0.5 * mass_times_nodal(o, g) + o.K * g;
+        if (o.V.size()) r1 -= o.V * f;
+        const Vector r2 = 0.5 * mass_transpose_times_elemental(o, f) - o.K.transpose() * f - o.D * g;
+        rhs.resize(sys.size());
+        const auto idxD = dofs3(sys.d_elements);
+        const auto idxN = dofs3(sys.n_nodes);
+        rhs.head(idxD.size()) = r1(idxD);
+        rhs.tail(idxN.size()) = r2(idxN);
+    }
+    Vector s = sys.solve(rhs);
+    // Cracks: Schur complement on interior crack nodes (eq. 4.3).
+    std::vector<Vec3> cod;
+    if (cracks && cracks->cracks.num_triangles() > 0) {
+        const CrackOperators& cr = *cracks;
+        const std::vector<char> interior = crack_interior_nodes(cr.cracks);
+        auto schur = std::make_shared<CrackSchur>();
+        schur->crack_triangles = cr.cracks.num_triangles();
+        const CrackSchur* old = previous ? previous->schur.get() : nullptr;
+        bool extend = options.extend_schur && old && previous->system == sol->system && previous->cracks &&
+                      old->crack_triangles <= cr.cracks.num_triangles();
+        if (extend) {
+            std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
+            for (int v : old->dof_nodes) {
+                if (v >= static_cast<int>(interior.size()) || !interior[v]) extend = false;
+                else was_dof[v] = 1;
+            }
+            for (std::size_t t = old->crack_triangles; extend && t < cr.cracks.num_triangles(); ++t)
+                for (int v : cr.cracks.triangles[t])
+                    if (was_dof[v]) extend = false;  // the support of an old unknown changed
+        }
+        const Matrix Yfull = cr.Y();
+        if (extend) {
+            std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
+            for (int v : old->dof_nodes) was_dof[v] = 1;
+            std::vector<int> fresh;
+            for (std::size_t v = 0; v < interior.size(); ++v)
+                if (interior[v] && !was_dof[v]) fresh.push_back(static_cast<int>(v));
+            schur->dof_nodes = old->dof_nodes;
+            schur->dof_nodes.insert(schur->dof_nodes.end(), fresh.begin(), fresh.end());
+            const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old->dof_nodes.size());
+            const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
+            const CrackCoupling cn = coupling(sys, cr, fresh);
+            const CrackCoupling co = coupling(sys, cr, old->dof_nodes);
+            const Matrix Zn = solve_matrix(sys, cn.B);
+            const auto io = dofs3(old->dof_nodes), in = dofs3(fresh);
+            Matrix Son = Yfull(io, in) - co.C * Zn;
+            const Matrix Sno = Yfull(in, io) - cn.C * old->Z;
+            Son = 0.5 * (Son + Sno.transpose());
+            Matrix Snn = Yfull(in, in) - cn.C * Zn;
+            Snn = 0.5 * (Snn + Snn.transpose()).eval();
+            const Matrix LnoT = old->L.triangularView<Eigen::Lower>().solve(Son);
+            Snn.noalias() -= LnoT.transpose() * LnoT;
+            Eigen::LLT<Matrix> lnn(Snn);
+            require(lnn.info() == Eigen::Success, "crack Schur complement (eq. 4.3) lost positive definiteness on extension");
+            schur->Z.resize(sys.size(), ko + kn);
+            schur->Z << old->Z, Zn;
+            schur->L = Matrix::Zero(ko + kn, ko + kn);
+            schur->L.topLeftCorner(ko, ko) = old->L;
+            schur->L.bottomLeftCorner(kn, ko) = LnoT.transpose();
+            schur->L.bottomRightCorner(kn, kn) = lnn.matrixL();
+            sol->extended_schur = true;
+            sol->schur_rows_added = static_cast<std::size_t>(kn);
+        } else {
+            for (std::size_t v = 0; v < interior.size(); ++v)
+                if (interior[v]) schur->dof_nodes.push_back(static_cast<int>(v));
+            if (schur->dof_nodes.empty())
+                throw std::invalid_argument("the crack mesh has no interior node, so it carries no opening unknown; every crack "
+                                            "needs at least one node off its front");
+            const CrackCoupling c = coupling(sys, cr, schur->dof_nodes);
+            schur->Z = solve_matrix(sys, c.B);
+            const auto ic = dofs3(schur->dof_nodes);
+            Matrix S = Yfull(ic, ic) - c.C * schur->Z;
+            S = 0.5 * (S + S.transpose()).eval();
+            Eigen::LLT<Matrix> llt(S);
+            require(llt.info() == Eigen::Success, "crack Schur complement (eq. 4.3) is not positive definite; check crack orientation");
+            schur->L = llt.matrixL();
+            sol->schur_rows_added = ic.size();
+        }
+        // Right-hand side of the crack rows: face loads minus known surface data.
+        const auto ic = dofs3(schur->dof_nodes);
+        Vector load = Vector::Zero(3 * cr.cracks.num_vertices());
+        for (std::size_t e = 0; e < cr.geometry.size(); ++e) {
+            const int r = cr.cracks.region_of(e);
+            const double p = r < static_cast<int>(loads.pressure.size()) ? loads.pressure[r] : 0.0;
+            for (int v : cr.geometry[e].nodes) load.segment<3>(3 * v) -= p * cr.geometry[e].area / 3 * cr.geometry[e].normal;
+        }
+        Vector gc = load(ic) - cr.W(Eigen::all, ic).transpose() * f - cr.X(Eigen::all, ic).transpose() * g;
+        const CrackCoupling c = coupling(sys, cr, schur->dof_nodes);
+        gc -= c.C * s;
+        Vector w = schur->L.triangularView<Eigen::Lower>().solve(gc);
+        schur->L.triangularView<Eigen::Lower>().transpose().solveInPlace(w);
+        s -= schur->Z * w;
+        cod.assign(cr.cracks.num_vertices(), Vec3::Zero());
+        for (std::size_t k = 0; k < schur->dof_nodes.size(); ++k) cod[schur->dof_nodes[k]] = -w.segment<3>(3 * k);
+        sol->schur = schur;
+    }
+    sol->crack_opening = std::move(cod);
+    sol->displacement.assign(N, Vec3::Zero());
+    sol->traction = bc.traction;
+    if (sys.pure_neumann) {
+        for (std::size_t v = 0; v < N; ++v) sol->displacement[v] = s.segment<3>(3 * v);
+    } else {
+        for (std::size_t v = 0; v < N; ++v) sol->displacement[v] = bc.displacement[v];
+        for (std::size_t k = 0; k < sys.d_elements.size(); ++k) sol->traction[sys.d_elements[k]] = s.segment<3>(3 * k);
+        const std::size_t off = 3 * sys.d_elements.size();
+        for (std::size_t k = 0; k < sys.n_nodes.size(); ++k) sol->displacement[sys.n_nodes[k]] = s.segment<3>(off + 3 * k);
+    }
+    return sol;
+}
+
+}  // namespace cf::bem

@@ -1,0 +1,86 @@
+#pragma once
+// SGBEM solves (thesis ch. 2.3, 2.5, 4.2, 7.1).
+// Mixed problems: A = [V_DD, -K_DN; K_DN^T, D_NN] (eq. 2.25), factorised once by block
+// Cholesky (V_DD = L L^T, then the SPD complement D_NN + K_DN^T V_DD^-1 K_DN).
+// Pure Neumann: A = D_R = D^T D + gamma T^T T with the area-scaled regulariser of eq. (7.2)-(7.3)
+// and gamma = (tr(D)/(3n))^2, right-hand side D^T f_N (eq. 7.4); loads must be balanced.
+// Cracks (eq. 2.38, 4.2, 4.3): unknown w = -[u] at interior crack nodes, Schur complement
+// S = Y - C A^-1 B factorised by Cholesky; when crack unknowns are appended the Cholesky factor
+// is extended by the new rows instead of recomputed. s = A^-1 (f - B w).
+#include "nodes/bem/boundary_conditions.hpp"
+#include "nodes/bem/operators.hpp"
+
+#include <Eigen/Cholesky>
+#include <memory>
+#include <vector>
+
+namespace cf::bem {
+
+// The factorised surface block A for one Dirichlet/Neumann partition.
+struct SurfaceSystem {
+    std::shared_ptr<const SurfaceOperators> ops;
+    bool pure_neumann = false;
+    std::vector<char> dirichlet;     // partition it was built for
+    std::vector<int> d_elements;     // Dirichlet elements (traction unknowns)
+    std::vector<int> n_nodes;        // nodes not in closure(Gamma_D) (displacement unknowns)
+    // mixed
+    Eigen::LLT<Matrix> v_factor;     // V_DD
+    Matrix v_inv_k;                  // V_DD^-1 K_DN
+    Eigen::LLT<Matrix> s_factor;     // D_NN + K_DN^T V_DD^-1 K_DN
+    // pure Neumann
+    Matrix T;                        // 6 x 3N regulariser rows (eq. 7.2, 7.3)
+    double gamma = 0;
+    Eigen::LLT<Matrix> r_factor;     // D_R
+    Eigen::Index size() const;       // number of unknowns in s
+    Vector solve(const Vector& f) const;  // A^-1 f
+};
+
+// Cholesky factor of the crack Schur complement and what is needed to extend it.
+struct CrackSchur {
+    std::vector<int> dof_nodes;      // crack nodes carrying unknowns, in unknown order
+    std::size_t crack_triangles = 0; // crack elements it was built from
+    Matrix Z;                        // A^-1 B  (size(s) x 3 dofs)
+    Matrix L;                        // lower Cholesky factor of S (symmetrised)
+};
+
+struct SolveOptions {
+    double balance_tolerance = 1e-3;  // pure Neumann: max relative net force / torque of the loads
+    bool extend_schur = true;         // false: always refactor the Schur complement (for benchmarks)
+};
+
+struct BemSolution {
+    std::shared_ptr<const SurfaceOperators> surface;
+    std::shared_ptr<const CrackOperators> cracks;     // may be null
+    std::shared_ptr<const SurfaceSystem> system;
+    std::shared_ptr<const CrackSchur> schur;          // null without crack unknowns
+    std::vector<Vec3> displacement;                   // per surface node [m]
+    std::vector<Vec3> traction;                       // per surface element [Pa]
+    std::vector<Vec3> crack_opening;                  // per crack node, [u] = u+ - u- (0 at the front) [m]
+    Vec3 residual_force = Vec3::Zero();               // net load [N] (pure Neumann)
+    Vec3 residual_torque = Vec3::Zero();              // about the surface centroid [N m]
+    bool reused_surface_factor = false;
+    bool extended_schur = false;
+    std::size_t schur_rows_added = 0;
+};
+
+// Per-node crack face loads: optional pressure p on both faces [Pa] per crack region.
+struct CrackLoads {
+    std::vector<double> pressure;  // per crack region id; empty means traction-free
+};
+
+// Interior crack nodes (not on a boundary edge of the sheet).
+std::vector<char> crack_interior_nodes(const SurfaceMesh& cracks);
+
+// Solves. `previous` (may be null) provides factorisations to reuse: the surface factor when
+// operators and partition match, and the Schur factor when the crack mesh only grew.
+std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const SurfaceOperators>& surface,
+                                               const std::shared_ptr<const CrackOperators>& cracks,
+                                               const ResolvedConditions& bc, const CrackLoads& loads,
+                                               const BemSolution* previous, const SolveOptions& options = {});
+
+// Net force and torque (about the area centroid) of per-element tractions.
+void load_resultants(const SurfaceOperators& s, const std::vector<Vec3>& traction, Vec3& force, Vec3& torque);
+
+}  // namespace cf::bem
+
+CF_GRAPH_TYPE(cf::bem::BemSolution, "BemSolution");

@@ -1,0 +1,154 @@
+// Solver-level checks: the registered verification cases, bad inputs, incremental cracks.
+#include "nodes/bem/bem_verification.hpp"
+#include "nodes/bem/test_meshes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace cf;
+using namespace cf::bem;
+
+namespace {
+const VerificationCase& find_case(const std::string& name) {
+    static std::vector<VerificationCase> cases = [] {
+        std::vector<VerificationCase> c;
+        add_bem_verification_cases(c);
+        return c;
+    }();
+    for (const auto& c : cases)
+        if (c.name == name) return c;
+    throw std::runtime_error("no case " + name);
+}
+void expect_case(const std::string& name) {
+    const VerificationResult r = find_case(name).run();
+    std::cout << name << ": error " << r.error << " (tolerance " << r.tolerance << ") " << r.details << "\n";
+    EXPECT_TRUE(r.passed) << r.details;
+}
+}  // namespace
+
+TEST(BemVerification, operator_symmetry) { expect_case("operator_symmetry"); }
+TEST(BemVerification, rigid_body_kernel) { expect_case("rigid_body_kernel"); }
+TEST(BemVerification, cube_tension_neumann) { expect_case("cube_tension_neumann"); }
+TEST(BemVerification, cube_tension_mixed) { expect_case("cube_tension_mixed"); }
+TEST(BemVerification, sphere_radial_traction) { expect_case("sphere_radial_traction"); }
+TEST(BemVerification, penny_crack_opening) { expect_case("penny_crack_opening"); }
+TEST(BemVerification, penny_crack_sif) { expect_case("penny_crack_sif"); }
+
+namespace {
+Material unit_material() {
+    Material m;
+    m.E = 1;
+    m.nu = 0.3;
+    return m;
+}
+SurfaceMesh first_rings(const SurfaceMesh& disk, int rings) {
+    // The disk builder numbers vertices ring by ring, so its first 6 r^2 triangles and
+    // 1 + 3 r (r+1) vertices form the disk of r rings.
+    SurfaceMesh m = disk;
+    m.triangles.resize(6 * rings * rings);
+    m.region.resize(m.triangles.size());
+    m.vertices.resize(1 + 3 * rings * (rings + 1));
+    return m;
+}
+}  // namespace
+
+TEST(BemCracks, AppendOnlyAssemblyAndSchurExtensionMatchFullSolve) {
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(bem_cube_mesh(3, 10.0), unit_material(), opt);
+    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), o->mesh);
+    const SurfaceMesh disk = bem_disk_mesh(6, 1.0);
+    const SurfaceMesh small = first_rings(disk, 4);
+    const auto c1 = append_crack_elements(*o, nullptr, small);
+    const auto s1 = solve_sgbem(o, c1, bc, {}, nullptr);
+    const auto c2 = append_crack_elements(*o, c1, disk);
+    const auto s2 = solve_sgbem(o, c2, bc, {}, s1.get());
+    const auto full = append_crack_elements(*o, nullptr, disk);
+    const auto s3 = solve_sgbem(o, full, bc, {}, nullptr);
+    // Every element pair computed exactly once: the two appends together equal one full assembly.
+    EXPECT_EQ(c2->pairs_computed, full->pairs_computed);
+    EXPECT_EQ(c2->pairs_computed_last, full->pairs_computed - c1->pairs_computed);
+    EXPECT_LT((c2->Y() - full->Y()).norm(), 1e-13 * full->Y().norm());
+    EXPECT_LT((c2->X - full->X).norm(), 1e-13 * full->X.norm());
+    EXPECT_LT((c2->W - full->W).norm(), 1e-13 * full->W.norm());
+    // The surface factor is reused and the Schur factor extended, giving the full solve's answer.
+    EXPECT_TRUE(s2->reused_surface_factor);
+    EXPECT_TRUE(s2->extended_schur);
+    EXPECT_FALSE(s3->extended_schur);
+    EXPECT_EQ(s2->schur_rows_added, 3u * (6 * 4 + 6 * 5));  // old front ring 4 and new ring 5 become interior
+    double diff = 0, ref = 0;
+    for (std::size_t v = 0; v < disk.num_vertices(); ++v) {
+        diff = std::max(diff, (s2->crack_opening[v] - s3->crack_opening[v]).norm());
+        ref = std::max(ref, s3->crack_opening[v].norm());
+    }
+    EXPECT_LT(diff, 1e-9 * ref);
+    // Opening points along +n (tension opens the crack) and front nodes carry none.
+    EXPECT_GT(s3->crack_opening[0].z(), 0);
+    EXPECT_EQ(s3->crack_opening.back().norm(), 0.0);
+}
+
+TEST(BemCracks, BadCrackInputsGiveClearErrors) {
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(bem_cube_mesh(2, 2.0), unit_material(), opt);
+    // Crossing the surface: a disk of radius 1.5 in a cube of half-width 1.
+    try {
+        append_crack_elements(*o, nullptr, bem_disk_mesh(3, 1.5));
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("strictly inside"), std::string::npos) << e.what();
+    }
+    // Degenerate crack triangle.
+    SurfaceMesh d = bem_disk_mesh(2, 0.5);
+    d.vertices.push_back(Vec3(0.1, 0, 0));
+    d.vertices.push_back(Vec3(0.2, 0, 0));
+    d.triangles.push_back({0, static_cast<int>(d.vertices.size()) - 2, static_cast<int>(d.vertices.size()) - 1});
+    d.region.push_back(0);
+    try {
+        append_crack_elements(*o, nullptr, d);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("degenerate"), std::string::npos) << e.what();
+    }
+    // Changing an already assembled element is refused (append-only).
+    const SurfaceMesh disk = bem_disk_mesh(2, 0.5);
+    const auto c1 = append_crack_elements(*o, nullptr, disk);
+    SurfaceMesh moved = disk;
+    moved.vertices[0].z() += 0.01;
+    EXPECT_THROW(append_crack_elements(*o, c1, moved), std::invalid_argument);
+}
+
+TEST(BemBoundaryConditions, UncoveredAndUnknownRegionsAreListed) {
+    const SurfaceMesh m = bem_cube_mesh(1, 1.0);
+    try {
+        resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: displacement 0 0 0"), m);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        const std::string w = e.what();
+        EXPECT_NE(w.find("0 ('x_min'), 1 ('x_max'), 2 ('y_min'), 3 ('y_max')"), std::string::npos) << w;
+    }
+    EXPECT_THROW(resolve(parse_boundary_conditions("top: traction 0 0 1; *: traction 0 0 0"), m), std::invalid_argument);
+    EXPECT_THROW(parse_boundary_conditions("z_max: tracton 0 0 1"), std::invalid_argument);
+    EXPECT_THROW(parse_boundary_conditions("z_max: traction 0 0"), std::invalid_argument);
+    EXPECT_THROW(parse_boundary_conditions("z_max traction 0 0 1"), std::invalid_argument);
+    const auto bc = resolve(parse_boundary_conditions(" z_min : displacement 0 0 0 ;*: traction 1 2 3;"), m);
+    EXPECT_EQ(bc.dirichlet[8], 1);  // z_min triangles are 8, 9
+    EXPECT_EQ(bc.traction[0], Vec3(1, 2, 3));
+}
+
+TEST(BemSolve, UnbalancedNeumannLoadIsRefusedWithResultants) {
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(bem_cube_mesh(1, 1.0), unit_material(), opt);
+    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; *: traction 0 0 0"), o->mesh);
+    try {
+        solve_sgbem(o, nullptr, bc, {}, nullptr);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("not balanced: net force 0 0 1 N"), std::string::npos) << e.what();
+    }
+    // Dirichlet regions need V.
+    const auto bc2 = resolve(parse_boundary_conditions("z_min: displacement 0 0 0; *: traction 0 0 0"), o->mesh);
+    EXPECT_THROW(solve_sgbem(o, nullptr, bc2, {}, nullptr), std::invalid_argument);
+}

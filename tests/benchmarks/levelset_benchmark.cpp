@@ -1,0 +1,129 @@
+// Level-set benchmarks (issue 4): crack recording throughput against OpenVDB's
+// meshToUnsignedDistanceField on the same strips, segmentation of ~1e7 active voxels, and
+// remeshing the armadillo to 1000 triangles. Figures go to docs/performance.md.
+#include "nodes/levelset/crack_grids.hpp"
+#include "nodes/levelset/level_set.hpp"
+#include "nodes/segment/fragments.hpp"
+#include "nodes/shape/box.hpp"
+#include "nodes/simplify/remesh.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace {
+
+using namespace cf;
+
+constexpr double kRf = 0.005;
+
+// A circular front of 256 markers growing from radius 0.05 m by 0.01 m per sub-step (2 r_f),
+// slightly out of plane so the strips are not axis-aligned.
+std::vector<FrontMotion> growing_front(int substeps) {
+    std::vector<FrontMotion> steps;
+    auto ring = [](double r) {
+        std::vector<Vec3> p;
+        for (int i = 0; i < 256; ++i) {
+            const double a = 2 * M_PI * i / 256;
+            p.emplace_back(r * std::cos(a), r * std::sin(a), 0.1 * r * std::sin(3 * a));
+        }
+        return p;
+    };
+    for (int s = 0; s < substeps; ++s) steps.push_back(FrontMotion{ring(0.05 + 0.01 * s), ring(0.06 + 0.01 * s), true});
+    return steps;
+}
+
+void BM_RecordGrowingCrack(benchmark::State& state) {
+    const auto steps = growing_front(20);
+    std::size_t voxels = 0;
+    for (auto _ : state) {
+        CrackRecorder rec(kRf);
+        rec.add_crack();
+        for (const FrontMotion& m : steps) {
+            std::size_t w = 0;
+            rec.record_substep({m}, nullptr, &w);
+            voxels += w;
+        }
+        benchmark::DoNotOptimize(rec.num_cracks());
+    }
+    state.counters["voxels_per_s"] = benchmark::Counter(double(voxels), benchmark::Counter::kIsRate);
+    state.counters["strips_per_s"] = benchmark::Counter(double(steps.size() * state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_RecordGrowingCrack)->Unit(benchmark::kMillisecond);
+
+// The same strips voxelised one by one by OpenVDB (no union): the reference cost per strip.
+void BM_MeshToVolumeSameStrips(benchmark::State& state) {
+    const auto steps = growing_front(20);
+    std::size_t voxels = 0;
+    for (auto _ : state) {
+        for (const FrontMotion& m : steps) {
+            const LevelSet ls = reference_strip_level_set(strip_triangles(m), kRf);
+            voxels += active_voxel_count(ls);
+        }
+    }
+    state.counters["active_voxels_per_s"] = benchmark::Counter(double(voxels), benchmark::Counter::kIsRate);
+    state.counters["strips_per_s"] = benchmark::Counter(double(steps.size() * state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_MeshToVolumeSameStrips)->Unit(benchmark::kMillisecond);
+
+// A 1 m cube at r_f = 2 mm (~1e7 active voxels) cut by one oblique plane.
+void BM_SegmentTenMillionVoxels(benchmark::State& state) {
+    BoxSpec spec;
+    spec.size = Vec3(1, 1, 1);
+    spec.subdivisions = 2;
+    const double r_f = 0.002;
+    const LevelSet cube = level_set_from_mesh(make_box(spec), r_f);
+    const LevelSet broken =
+        broken_object(cube, CrackLevelSets{r_f, 3, {planar_disk_crack(Vec3(0.05, 0, 0), Vec3(1, 0.4, 0.2), 2, r_f)}});
+    std::size_t fragments = 0;
+    for (auto _ : state) fragments = find_fragments(broken).fragments.size();
+    state.counters["active_voxels"] = double(active_voxel_count(broken));
+    state.counters["fragments"] = double(fragments);
+    state.counters["voxels_per_s"] =
+        benchmark::Counter(double(active_voxel_count(broken) * state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_SegmentTenMillionVoxels)->Unit(benchmark::kSecond)->Iterations(1);
+
+SurfaceMesh read_off(const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::string magic;
+    std::size_t nv = 0, nf = 0, ne = 0;
+    f >> magic >> nv >> nf >> ne;
+    SurfaceMesh m;
+    m.vertices.resize(nv);
+    for (auto& v : m.vertices) f >> v.x() >> v.y() >> v.z();
+    for (std::size_t i = 0; i < nf; ++i) {
+        int n;
+        Tri t;
+        f >> n >> t[0] >> t[1] >> t[2];
+        m.triangles.push_back(t);
+    }
+    return m;
+}
+
+void BM_RemeshArmadillo1000(benchmark::State& state) {
+    const std::filesystem::path file = std::filesystem::path(CF_REMESH_DATA_DIR) / "armadillo.off";
+    if (!std::filesystem::exists(file)) {
+        state.SkipWithError("armadillo.off not found (install libcgal-demo and re-run cmake)");
+        return;
+    }
+    const SurfaceMesh input = read_off(file);
+    const LevelSet ls = level_set_from_mesh(input, bounding_box(input).extent().maxCoeff() / 160);
+    RemeshOptions opt;
+    opt.target_triangles = 1000;
+    std::size_t tris = 0, dense = 0;
+    for (auto _ : state) {
+        const RemeshResult r = remesh(ls, opt);
+        tris = r.mesh.num_triangles();
+        dense = r.dense_triangles;
+    }
+    state.counters["dense_triangles"] = double(dense);
+    state.counters["triangles"] = double(tris);
+}
+BENCHMARK(BM_RemeshArmadillo1000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
