@@ -1,5 +1,7 @@
 #include "surface_mesh.hpp"
 
+#include <Eigen/Geometry>  // cross()
+
 #include <algorithm>
 #include <limits>
 
