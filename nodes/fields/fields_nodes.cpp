@@ -1,0 +1,109 @@
+// Node adapters for nodes/fields: fields.homogeneous, fields.layered, fields.granular, fields.vdb.
+// Each outputs a ScalarField (toughness [Pa*sqrt(m)] or strength [Pa]) with its compressive factor.
+#include "graph/node_context.hpp"
+#include "graph/registry.hpp"
+#include "nodes/fields/closed_form_fields.hpp"
+#include "nodes/fields/grid_fields.hpp"
+#include "nodes/registration.hpp"
+
+#include <stdexcept>
+
+namespace cf {
+namespace {
+
+void common_params(graph::NodeType& t) {
+    t.param_choice("quantity", "toughness", {"toughness", "strength"},
+                   "what the field describes: toughness K_c [Pa*sqrt(m)] (propagation) or tensile strength [Pa] (initiation)");
+    t.param_real("compressive_factor", 2, "", "f_c: compressive toughness/strength = f_c * tensile (thesis ch. 4.4, 4.5.1)")
+        .above(0);
+    t.output<ScalarField>("field", "value and gradient at any point");
+}
+
+// Runs `make` and wraps the source; bad settings become node errors naming the parameter.
+template <class MakeSource>
+void emit(graph::NodeContext& c, MakeSource make) {
+    try {
+        const FieldQuantity q = parse_quantity(c.string("quantity"));
+        ScalarField f = make_field(make(), q, c.real("compressive_factor"));
+        c.count("lower_bound", f.source->lower_bound());
+        c.out("field", std::move(f));
+    } catch (const std::invalid_argument& e) {
+        c.fail(e.what());
+    }
+}
+
+graph::NodeType homogeneous_node() {
+    graph::NodeType t("fields.homogeneous", "A constant toughness or strength field (thesis ch. 4.5).");
+    t.param_real("value", 1e6, "Pa*sqrt(m) or Pa", "the constant value (unit by quantity)").at_least(0);
+    common_params(t);
+    t.run([](graph::NodeContext& c) { emit(c, [&] { return std::make_shared<HomogeneousField>(c.real("value")); }); });
+    return t;
+}
+
+graph::NodeType layered_node() {
+    graph::NodeType t("fields.layered",
+                      "Layered material K(p) = a - b cos(f p.l) with analytic gradient (thesis ch. 4.5.3, fig. 19). "
+                      "Also a strength varying with height (fig. 18): l = e_z, minimum a - b where f p.l = 0.");
+    t.param_real("a", 1e6, "Pa*sqrt(m) or Pa", "mean value");
+    t.param_real("b", 1e5, "Pa*sqrt(m) or Pa", "amplitude; the field spans [a - |b|, a + |b|]");
+    t.param_real("frequency", 100, "rad/m", "spatial frequency f; layers repeat every 2 pi / f").at_least(0);
+    t.param_reals("direction", {0, 0, 1}, "", "layer normal l (normalised)").size(3);
+    common_params(t);
+    t.run([](graph::NodeContext& c) {
+        const auto& l = c.reals("direction");
+        emit(c, [&] {
+            return std::make_shared<LayeredField>(c.real("a"), c.real("b"), c.real("frequency"), Vec3(l[0], l[1], l[2]));
+        });
+    });
+    return t;
+}
+
+graph::NodeType granular_node() {
+    graph::NodeType t("fields.granular",
+                      "Granular material (thesis ch. 4.5.3): a seeded periodic Voronoi grain structure; the value rises from "
+                      "'value' on grain boundaries to (1 + rise) * value inside grains. The distance to the nearest grain "
+                      "boundary is stored on an OpenVDB grid covering one tile, repeated seamlessly.");
+    t.param_real("value", 1e6, "Pa*sqrt(m) or Pa", "value on grain boundaries (the minimum)").at_least(0);
+    t.param_real("rise", 0.1, "", "fractional rise from boundary to grain interior").above(-1);
+    t.param_real("grain_size", 1e-2, "m", "mean grain spacing").above(0);
+    t.param_int("grains_per_tile", 64, "grains in one periodic tile (tile edge = grain_size * cbrt(grains))").range(8, 4096);
+    t.param_int("seed", 1, "random seed of the grain placement").at_least(0);
+    t.param_int("voxels_per_grain", 8, "distance-grid voxels per grain_size").range(2, 64);
+    t.param_real("interior_depth", 0.25, "", "depth below a boundary, in grain sizes, where the rise is complete").above(0);
+    common_params(t);
+    t.run([](graph::NodeContext& c) {
+        GranularSettings s;
+        s.boundary_value = c.real("value");
+        s.rise = c.real("rise");
+        s.grain_size = c.real("grain_size");
+        s.grains_per_tile = static_cast<int>(c.integer("grains_per_tile"));
+        s.seed = static_cast<std::uint64_t>(c.integer("seed"));
+        s.voxels_per_grain = static_cast<int>(c.integer("voxels_per_grain"));
+        s.interior_depth = c.real("interior_depth");
+        emit(c, [&] { return std::make_shared<GranularField>(s); });
+    });
+    return t;
+}
+
+graph::NodeType vdb_node() {
+    graph::NodeType t("fields.vdb", "A field read from a float grid of a .vdb file, trilinearly interpolated, times 'scale'.");
+    t.param_string("file", "", "path of the .vdb file").required();
+    t.param_string("grid", "toughness", "name of the float grid in the file");
+    t.param_real("scale", 1, "", "factor applied to the grid values (e.g. to convert units)");
+    common_params(t);
+    t.run([](graph::NodeContext& c) {
+        emit(c, [&] { return std::make_shared<VdbFileField>(c.string("file"), c.string("grid"), c.real("scale")); });
+    });
+    return t;
+}
+
+}  // namespace
+
+void register_fields_nodes(graph::NodeRegistry& r) {
+    r.add(homogeneous_node());
+    r.add(layered_node());
+    r.add(granular_node());
+    r.add(vdb_node());
+}
+
+}  // namespace cf

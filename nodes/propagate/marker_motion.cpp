@@ -1,0 +1,53 @@
+#include "nodes/propagate/marker_motion.hpp"
+
+namespace cf::propagate {
+
+namespace {
+
+struct Direction {
+    double theta = 0;
+    AngleInterval valid;
+};
+
+Direction optimal_direction(const Sifs& raw, double fc, double nu, double Kc) {
+    const TipLoading t = apply_compressive_rule(raw, fc);
+    const double K13 = mode_i_iii_sif(t.K, nu);
+    Direction d;
+    d.theta = kink_angle(K13, t.K.KII);
+    d.valid = valid_interval(K13, t.K.KII, Kc);
+    return d;
+}
+
+}  // namespace
+
+MarkerStep marker_substep(const MarkerState& m, const ScalarField& toughness, const PropagationSettings& s, double w_t,
+                          bool planar) {
+    MarkerStep out;
+    if (!m.active) return out;
+    const double fc = toughness.compressive_factor;
+    const double Kc = toughness.value(m.position);
+    const TipLoading now = apply_compressive_rule(m.K, fc);
+    out.compressive = now.compressive;
+    const double cR = rayleigh_speed(s.mu(), s.rho);
+    out.speed = propagation_speed(effective_sif(now.K, s.nu), Kc, cR);  // eq. (4.7)-(4.8)
+    if (out.speed == 0) return out;
+    if (!planar) {
+        const Direction cur = optimal_direction(m.K, fc, s.nu, Kc);
+        Direction old;  // theta_old = 0 for a new crack; its interval is unknown, so use the current one
+        old.valid = cur.valid;
+        if (m.has_old) old = optimal_direction(m.K_old, fc, s.nu, Kc);
+        const double theta_opt = blend_angle(old.theta, cur.theta, w_t);  // eq. (4.12)
+        AngleInterval valid = cur.valid;
+        if (!cur.valid.empty && !old.valid.empty) {
+            valid.lo = blend_angle(old.valid.lo, cur.valid.lo, w_t);
+            valid.hi = blend_angle(old.valid.hi, cur.valid.hi, w_t);
+        }
+        const GradientDirection g = gradient_direction(toughness.gradient(m.position), m.n1, m.n2);
+        out.theta = steered_angle(theta_opt, valid, g, s.r_c, Kc);  // eq. (4.14)
+    }
+    const double dt = substep_duration(s.r_f, cR);
+    out.displacement = dt * front_velocity(out.speed, out.theta, m.n1, m.n2);  // eq. (4.11), forward Euler
+    return out;
+}
+
+}  // namespace cf::propagate

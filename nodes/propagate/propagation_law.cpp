@@ -1,0 +1,134 @@
+#include "nodes/propagate/propagation_law.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace cf::propagate {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+double ktheta(double KI, double KII, double theta) {  // eq. (2.35), first line
+    const double c = std::cos(theta / 2), s = std::sin(theta / 2);
+    return KI * c * c * c - 3 * KII * c * c * s;
+}
+}  // namespace
+
+LocalSifs local_sifs(const Sifs& K, double theta) {
+    const double c = std::cos(theta / 2), s = std::sin(theta / 2);
+    LocalSifs L;
+    L.Ktheta = K.KI * c * c * c - 3 * K.KII * c * c * s;
+    L.Kr = K.KI * c * c * s + 3 * K.KII * c * c * c - 2 * K.KII * c;
+    L.K3 = K.KIII * c;
+    return L;
+}
+
+double energy_release_rate(const Sifs& K, double theta, double E, double nu) {
+    const LocalSifs L = local_sifs(K, theta);
+    return ((L.Ktheta * L.Ktheta + L.Kr * L.Kr) * (1 - nu * nu) + L.K3 * L.K3 * (1 + nu)) / E;
+}
+
+double effective_sif(const Sifs& K, double nu) {
+    return std::sqrt(K.KI * K.KI + K.KII * K.KII + K.KIII * K.KIII / (1 - nu));
+}
+
+double mode_i_iii_sif(const Sifs& K, double nu) { return std::sqrt(K.KI * K.KI + K.KIII * K.KIII / (1 - nu)); }
+
+double kink_angle(double K, double KII) {
+    if (K < 0) throw std::invalid_argument("kink_angle: the opening SIF must be >= 0 (apply the compressive rule first)");
+    const double root = std::sqrt(K * K + 8 * KII * KII);
+    if (root == 0) return 0;
+    return 2 * std::atan(-2 * KII / (K + root));
+}
+
+KthetaRange ktheta_range(double KI, double KII) {
+    KthetaRange r;  // +-pi: K_theta = 0
+    if (KII == 0) {
+        r.max = std::max(0.0, KI);
+        r.min = std::min(0.0, KI);
+        return r;
+    }
+    const double root = std::sqrt(KI * KI + 8 * KII * KII);
+    for (const double t : {2 * std::atan((KI - root) / (4 * KII)), 2 * std::atan((KI + root) / (4 * KII))}) {
+        const double v = ktheta(KI, KII, t);
+        r.max = std::max(r.max, v);
+        r.min = std::min(r.min, v);
+    }
+    return r;
+}
+
+bool is_compressive(const Sifs& K, double compressive_factor) {
+    const KthetaRange r = ktheta_range(K.KI, K.KII);
+    return r.max < -r.min / compressive_factor;
+}
+
+TipLoading apply_compressive_rule(const Sifs& K, double compressive_factor) {
+    if (!(compressive_factor > 0)) throw std::invalid_argument("compressive factor f_c must be > 0");
+    TipLoading t;
+    t.K = K;
+    if (is_compressive(K, compressive_factor)) {
+        t.compressive = true;
+        t.K.KI = -K.KI / compressive_factor;
+        t.K.KII = -K.KII / compressive_factor;
+        t.K.KIII = -K.KIII / compressive_factor;
+    }
+    return t;
+}
+
+double rayleigh_speed(double mu, double rho) { return 0.9 * std::sqrt(mu / rho); }
+
+double propagation_speed(double K_eff, double K_c, double c_R) {
+    if (!(std::abs(K_eff) > K_c)) return 0;
+    return c_R * (1 - K_c * K_c / (K_eff * K_eff));
+}
+
+double substep_duration(double r_f, double c_R) { return r_f / c_R; }
+
+AngleInterval valid_interval(double K_I_III, double KII, double K_c) {
+    AngleInterval I;
+    const double opt = kink_angle(K_I_III, KII);
+    I.lo = I.hi = opt;
+    if (!(ktheta(K_I_III, KII, opt) > K_c)) return I;
+    I.empty = false;
+    // On each side of the maximum, K_theta falls monotonically to its minimum (<= 0) or to 0 at
+    // +-pi and never climbs back above 0 < K_c: one crossing per side, found by bisection.
+    auto crossing = [&](double inside, double outside) {
+        for (int it = 0; it < 200 && std::abs(outside - inside) > 1e-14; ++it) {
+            const double mid = 0.5 * (inside + outside);
+            (ktheta(K_I_III, KII, mid) > K_c ? inside : outside) = mid;
+        }
+        return inside;
+    };
+    I.lo = crossing(opt, -kPi);
+    I.hi = crossing(opt, kPi);
+    return I;
+}
+
+double blend_angle(double theta_old, double theta_new, double w_t) { return w_t * theta_new + (1 - w_t) * theta_old; }
+
+double blend_weight(int k, int n) {
+    if (n <= 1) return 1;
+    return std::clamp(static_cast<double>(k) / (n - 1), 0.0, 1.0);
+}
+
+GradientDirection gradient_direction(const Vec3& grad_Kc, const Vec3& n1, const Vec3& n2) {
+    const double g1 = grad_Kc.dot(n1), g2 = grad_Kc.dot(n2);
+    GradientDirection g;
+    g.r = std::sqrt(g1 * g1 + g2 * g2);
+    g.theta = g.r > 0 ? std::atan2(0.0 - g1, 0.0 - g2) : 0;  // 0.0 - x: no signed zero, backwards is +pi
+    return g;
+}
+
+double steered_angle(double theta_opt, const AngleInterval& valid, const GradientDirection& g, double r_c, double K_c) {
+    if (valid.empty || !(K_c > 0) || g.r == 0) return theta_opt;
+    const double toward_weaker = std::clamp(g.theta, valid.lo, valid.hi);  // argmin over I of |theta - theta_grad|
+    const double w = 1 / (1 + g.r * r_c / K_c);
+    return w * theta_opt + (1 - w) * toward_weaker;
+}
+
+Vec3 front_velocity(double speed, double theta, const Vec3& n1, const Vec3& n2) {
+    return speed * (std::sin(theta) * n1 + std::cos(theta) * n2);
+}
+
+}  // namespace cf::propagate
