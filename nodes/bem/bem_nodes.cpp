@@ -3,6 +3,7 @@
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/bem/bem_types.hpp"
+#include "nodes/bem/bem_vtk_export.hpp"
 #include "nodes/registration.hpp"
 
 #include <stdexcept>
@@ -111,11 +112,43 @@ graph::NodeType solve_node() {
     return t;
 }
 
+graph::NodeType vtk_node() {
+    graph::NodeType t("export.bem_vtk",
+                      "Writes an SGBEM solution as VTK PolyData for ParaView: the surface with nodal displacement 'u' [m] and "
+                      "element 'traction' [Pa], 'dirichlet' and 'region' cell arrays; crack sheets (if any) to a second file "
+                      "with the opening 'du' = u+ - u- [m] and the average displacement 'u_average' (thesis ch. 6.4). "
+                      "Files are written atomically.");
+    t.input<bem::BemSolution>("solution", "from solve.sgbem");
+    t.param_string("path", "", "surface .vtp file; relative paths are relative to the run's output directory").required();
+    t.param_string("crack_path", "",
+                   "crack-sheet .vtp file (written only when there are cracks); empty: '<path stem>_cracks.vtp' beside 'path'");
+    t.param_bool("crack_average", true,
+                 "add 'u_average' at crack vertices (representation formula over the surface, eq. 2.20; costs one surface "
+                 "integral per crack vertex)");
+    t.run([](graph::NodeContext& c) {
+        const bem::BemSolution& sol = c.in<bem::BemSolution>("solution");
+        std::filesystem::path path = c.string("path");
+        if (path.is_relative()) path = c.output_dir() / path;
+        std::filesystem::path crack_path = c.string("crack_path");
+        if (crack_path.empty()) crack_path = path.parent_path() / (path.stem().string() + "_cracks.vtp");
+        else if (crack_path.is_relative()) crack_path = c.output_dir() / crack_path;
+        try {
+            bem::write_bem_vtk(sol, path, crack_path, c.boolean("crack_average"));
+        } catch (const std::exception& e) {
+            c.fail("parameter 'path' (" + path.string() + ") / 'crack_path' (" + crack_path.string() + "): " + e.what());
+        }
+        c.count("surface_triangles", static_cast<double>(sol.surface->mesh.num_triangles()));
+        c.count("crack_triangles", sol.cracks ? static_cast<double>(sol.cracks->cracks.num_triangles()) : 0.0);
+    });
+    return t;
+}
+
 }  // namespace
 
 void register_bem_nodes(graph::NodeRegistry& r) {
     r.add(assemble_node());
     r.add(solve_node());
+    r.add(vtk_node());
 }
 
 }  // namespace cf

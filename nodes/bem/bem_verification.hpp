@@ -20,6 +20,16 @@ struct PennyRun {
 };
 PennyRun run_penny_crack(int rings, int cube_m, double grade = 1.0);
 
+// Solid sphere R = 1 (icosphere level: 20 * 4^level triangles) under radial traction 1 with the TRUE
+// normal at each element centroid (t = c/|c|), pure Neumann; exact u = 0.4 x (E = 1, nu = 0.3).
+// Returns the relative L2 error of the nodal displacement (an O(h^2) geometry error) and h.
+struct SphereRun {
+    double h = 0;  // longest edge [m]
+    double error = 0;
+    std::size_t triangles = 0;
+};
+SphereRun run_sphere_true_normals(int level);
+
 }  // namespace cf::bem
 
 namespace cf {

@@ -5,6 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 using namespace cf;
 using cf::testing::run_node;
 using cf::testing::value;
@@ -39,5 +44,85 @@ TEST(BemNodes, UncoveredRegionFailsNamingIt) {
         FAIL();
     } catch (const std::exception& e) {
         EXPECT_NE(std::string(e.what()).find("regions without a boundary condition"), std::string::npos) << e.what();
+    }
+}
+
+namespace {
+
+// Reads the numbers of the DataArray named `name` of a .vtp file written by write_vtp.
+std::vector<double> vtp_array(const std::filesystem::path& file, const std::string& name) {
+    std::ifstream in(file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    const std::size_t tag = text.find("Name=\"" + name + "\"");
+    if (tag == std::string::npos) throw std::runtime_error("no array " + name + " in " + file.string());
+    const std::size_t begin = text.find('>', tag) + 1, end = text.find("</DataArray>", begin);
+    std::istringstream values(text.substr(begin, end - begin));
+    std::vector<double> out;
+    for (double x; values >> x;) out.push_back(x);
+    return out;
+}
+
+}  // namespace
+
+TEST(BemNodes, VtkExportWritesFieldsThatParseBack) {
+    // Penny crack (3 rings) inside a cube of side 10 (m = 2) under remote tension: surface and crack files.
+    const SurfaceMesh cube = bem::bem_cube_mesh(2, 10.0);
+    const SurfaceMesh crack = bem::bem_disk_mesh(3, 1.0);
+    auto a = run_node("assemble.sgbem", {{"E", 1.0}, {"nu", 0.3}, {"single_layer", true}},
+                      {{"mesh", value(cube)}, {"cracks", value(crack)}});
+    auto s = run_node("solve.sgbem",
+                      {{"boundary_conditions", std::string("z_max: traction 0 0 1; z_min: displacement 0 0 0; *: traction 0 0 0")}},
+                      {{"operators", a.outputs.at("operators")}});
+    const graph::Value solv = s.outputs.at("solution");
+    const auto& sol = solv.get<bem::BemSolution>();
+    const auto dir = cf::testing::temp_dir("bem-vtk");
+    run_node("export.bem_vtk", {{"path", (dir / "body.vtp").string()}}, {{"solution", solv}});
+    ASSERT_TRUE(std::filesystem::exists(dir / "body_cracks.vtp"));
+    const auto u = vtp_array(dir / "body.vtp", "u");
+    const auto t = vtp_array(dir / "body.vtp", "traction");
+    const auto d = vtp_array(dir / "body.vtp", "dirichlet");
+    const auto reg = vtp_array(dir / "body.vtp", "region");
+    ASSERT_EQ(u.size(), 3 * cube.num_vertices());
+    ASSERT_EQ(t.size(), 3 * cube.num_triangles());
+    ASSERT_EQ(reg.size(), cube.num_triangles());
+    double worst = 0;
+    for (std::size_t v = 0; v < cube.num_vertices(); ++v)
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(u[3 * v + k] - sol.displacement[v][k]));
+    for (std::size_t e = 0; e < cube.num_triangles(); ++e) {
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(t[3 * e + k] - sol.traction[e][k]));
+        EXPECT_EQ(reg[e], cube.region[e]);
+        EXPECT_EQ(d[e], cube.region[e] == 4 ? 1.0 : 0.0);  // z_min is the displacement region
+    }
+    EXPECT_EQ(worst, 0.0);  // full double precision round trip
+    const auto du = vtp_array(dir / "body_cracks.vtp", "du");
+    const auto ua = vtp_array(dir / "body_cracks.vtp", "u_average");
+    ASSERT_EQ(du.size(), 3 * crack.num_vertices());
+    ASSERT_EQ(ua.size(), 3 * crack.num_vertices());
+    double worst_du = 0;
+    for (std::size_t v = 0; v < crack.num_vertices(); ++v)
+        for (int k = 0; k < 3; ++k) worst_du = std::max(worst_du, std::abs(du[3 * v + k] - sol.crack_opening[v][k]));
+    EXPECT_EQ(worst_du, 0.0);
+    EXPECT_GT(du[2], 0.0);  // the centre node opens along +z (tension)
+    // The crack is 5 m above the clamped bottom: its average displacement is upward and smaller than the top's.
+    EXPECT_GT(ua[2], 0.0);
+}
+
+TEST(BemNodes, VtkExportRejectsUnwritablePath) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(1, 1.0);
+    auto a = run_node("assemble.sgbem", {{"E", 1.0}, {"single_layer", false}}, {{"mesh", value(cube)}});
+    auto s = run_node("solve.sgbem", {{"boundary_conditions", std::string("*: traction 0 0 0")}},
+                      {{"operators", a.outputs.at("operators")}});
+    const auto dir = cf::testing::temp_dir("bem-vtk-bad");
+    {
+        std::ofstream blocker(dir / "file");
+        blocker << "x";
+    }
+    try {
+        run_node("export.bem_vtk", {{"path", (dir / "file" / "out.vtp").string()}}, {{"solution", s.outputs.at("solution")}});
+        FAIL() << "writing below a regular file must fail";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("parameter 'path'"), std::string::npos) << e.what();
     }
 }

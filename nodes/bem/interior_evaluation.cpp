@@ -1,0 +1,275 @@
+#include "nodes/bem/interior_evaluation.hpp"
+
+#include "nodes/bem/quadrature.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace cf::bem {
+
+namespace {
+
+// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5),
+// returned as barycentric weights of a, b, c.
+Vec3 closest_barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return Vec3(1, 0, 0);
+    const Vec3 bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return Vec3(0, 1, 0);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double v = d1 / (d1 - d3);
+        return Vec3(1 - v, v, 0);
+    }
+    const Vec3 cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return Vec3(0, 0, 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double w = d2 / (d2 - d6);
+        return Vec3(1 - w, 0, w);
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return Vec3(0, 1 - w, w);
+    }
+    const double denom = 1 / (va + vb + vc);
+    const double v = vb * denom, w = vc * denom;
+    return Vec3(1 - v - w, v, w);
+}
+
+Vec3 at(const std::array<Vec3, 3>& p, const Vec3& bary) { return bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2]; }
+
+// What one triangle contributes: +U* t (traction, P0) and sign * T^T u (P1 nodal values u_beta),
+// sign = -1 on Gamma (eq. 2.20) and +1 on crack sheets with u = [u] (sgbem-math §2 "Cracks").
+struct Source {
+    const ElementGeometry* g = nullptr;
+    Vec3 t = Vec3::Zero();
+    std::array<Vec3, 3> u{};
+    double sign = -1;
+    bool has_traction = false;
+};
+
+struct Kernel {
+    double c;      // 1 / (16 pi mu (1-nu)), Kelvin constant
+    double kappa;  // 1 / (8 pi (1-nu))
+    double nu;
+    explicit Kernel(const ElasticConstants& e)
+        : c(1 / (16 * M_PI * e.mu * (1 - e.nu))), kappa(1 / (8 * M_PI * (1 - e.nu))), nu(e.nu) {}
+};
+
+struct Accumulator {
+    Vec3 u = Vec3::Zero();
+    Mat3 G = Mat3::Zero();  // G(j, l) = du_j / dx_l
+};
+
+// Adds w * integrand at y (d = x - y) for the source s, at barycentric point `bary` of s.
+void add_point(const Kernel& k, const Source& s, const Vec3& d, const Vec3& bary, double w, bool gradient, Accumulator& acc) {
+    const double r2 = d.squaredNorm(), r = std::sqrt(r2), r3 = r2 * r, r5 = r3 * r2;
+    const double a = 1 - 2 * k.nu;
+    const Vec3& n = s.g->normal;
+    const Vec3 uy = bary[0] * s.u[0] + bary[1] * s.u[1] + bary[2] * s.u[2];
+    const double dn = d.dot(n), du = d.dot(uy), nu_ = n.dot(uy);
+    // Double layer T(x,y)^T u(y) (sgbem-math §1 written with d = x - y).
+    const Vec3 Tu = k.kappa * (a * (n * du + uy * dn - nu_ * d) / r3 + 3 * dn * du * d / r5);
+    acc.u += (w * s.sign) * Tu;
+    if (gradient) {
+        const double r7 = r5 * r2;
+        Mat3 B = a * ((n * uy.transpose() + uy * n.transpose() - nu_ * Mat3::Identity()) / r3 -
+                      3 * (n * du + uy * dn - nu_ * d) * d.transpose() / r5);
+        B += 3 * ((d * (n * du + uy * dn).transpose() + dn * du * Mat3::Identity()) / r5 - 5 * dn * du * d * d.transpose() / r7);
+        acc.G += (w * s.sign * k.kappa) * B;
+    }
+    if (s.has_traction) {
+        const Vec3& t = s.t;
+        const double dt = d.dot(t);
+        acc.u += (w * k.c) * ((3 - 4 * k.nu) * t / r + d * dt / r3);
+        if (gradient) {
+            Mat3 A = -(3 - 4 * k.nu) * t * d.transpose() + dt * Mat3::Identity() + d * t.transpose() -
+                     3 * dt / r2 * d * d.transpose();
+            acc.G += (w * k.c / r3) * A;
+        }
+    }
+}
+
+struct Rules {
+    TriangleRule six = symmetric_triangle_rule_6();
+    TriangleRule g4 = collapsed_gauss_triangle_rule(4);
+    TriangleRule g6 = collapsed_gauss_triangle_rule(6);
+};
+const Rules& rules() {
+    static const Rules r;
+    return r;
+}
+
+// Integrates over the sub-triangle of s with barycentric corners B[0..2] (area `area`), subdividing
+// while it is near x (header comment).
+void integrate(const Kernel& k, const Source& s, const Vec3& x, const std::array<Vec3, 3>& B, double area, int depth,
+               const InteriorQuadrature& q, bool gradient, Accumulator& acc) {
+    const std::array<Vec3, 3> P = {at(s.g->p, B[0]), at(s.g->p, B[1]), at(s.g->p, B[2])};
+    const double diam = std::max({(P[1] - P[0]).norm(), (P[2] - P[0]).norm(), (P[2] - P[1]).norm()});
+    const Vec3 cb = closest_barycentric(x, P[0], P[1], P[2]);
+    const double dist = (x - at(P, cb)).norm();
+    const double ratio = dist / diam;
+    if (ratio < q.leaf_ratio && depth < q.max_depth) {
+        const Vec3 m01 = 0.5 * (B[0] + B[1]), m12 = 0.5 * (B[1] + B[2]), m02 = 0.5 * (B[0] + B[2]);
+        const double qa = 0.25 * area;
+        integrate(k, s, x, {B[0], m01, m02}, qa, depth + 1, q, gradient, acc);
+        integrate(k, s, x, {m01, B[1], m12}, qa, depth + 1, q, gradient, acc);
+        integrate(k, s, x, {m02, m12, B[2]}, qa, depth + 1, q, gradient, acc);
+        integrate(k, s, x, {m12, m02, m01}, qa, depth + 1, q, gradient, acc);
+        return;
+    }
+    const TriangleRule& rule = ratio >= 8 ? rules().six : ratio >= 4 ? rules().g4 : rules().g6;
+    for (std::size_t i = 0; i < rule.size(); ++i) {
+        const double st = rule.s[i], tt = rule.t[i];
+        const Vec3 bary = (1 - st - tt) * B[0] + st * B[1] + tt * B[2];
+        add_point(k, s, x - at(s.g->p, bary), bary, rule.w[i] * 2 * area, gradient, acc);
+    }
+}
+
+struct Sources {
+    std::vector<Source> gamma, sigma;
+};
+
+Sources collect(const BemSolution& sol, bool include_cracks) {
+    Sources out;
+    const SurfaceOperators& o = *sol.surface;
+    for (std::size_t e = 0; e < o.geometry.size(); ++e) {
+        Source s;
+        s.g = &o.geometry[e];
+        s.t = sol.traction[e];
+        s.has_traction = true;
+        for (int b = 0; b < 3; ++b) s.u[b] = sol.displacement[s.g->nodes[b]];
+        s.sign = -1;
+        out.gamma.push_back(s);
+    }
+    if (include_cracks && sol.cracks) {
+        for (std::size_t e = 0; e < sol.cracks->geometry.size(); ++e) {
+            Source s;
+            s.g = &sol.cracks->geometry[e];
+            for (int b = 0; b < 3; ++b) s.u[b] = sol.crack_opening[s.g->nodes[b]];
+            s.sign = +1;
+            out.sigma.push_back(s);
+        }
+    }
+    return out;
+}
+
+// Nearest triangle of a source list: (index, barycentric closest point, distance).
+struct Nearest {
+    std::size_t index = 0;
+    Vec3 bary = Vec3::Zero();
+    double dist = std::numeric_limits<double>::infinity();
+};
+Nearest nearest(const std::vector<Source>& list, const Vec3& x) {
+    Nearest best;
+    for (std::size_t e = 0; e < list.size(); ++e) {
+        const auto& p = list[e].g->p;
+        const Vec3 b = closest_barycentric(x, p[0], p[1], p[2]);
+        const double d = (x - at(p, b)).norm();
+        if (d < best.dist) best = {e, b, d};
+    }
+    return best;
+}
+
+std::string point_text(const Vec3& x) {
+    std::ostringstream os;
+    os.precision(9);
+    os << "(" << x.x() << ", " << x.y() << ", " << x.z() << ")";
+    return os.str();
+}
+
+double on_surface_tolerance(const BemSolution& sol) { return 1e-9 * bounding_box(sol.surface->mesh).extent().norm(); }
+
+Accumulator evaluate(const Kernel& k, const Sources& src, const Vec3& x, bool gradient, const InteriorQuadrature& q) {
+    Accumulator acc;
+    for (const auto* list : {&src.gamma, &src.sigma})
+        for (const Source& s : *list) {
+            const std::array<Vec3, 3> B = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+            integrate(k, s, x, B, s.g->area, 0, q, gradient, acc);
+        }
+    return acc;
+}
+
+void check_sizes(const BemSolution& sol) {
+    if (!sol.surface || sol.displacement.size() != sol.surface->mesh.num_vertices() ||
+        sol.traction.size() != sol.surface->geometry.size())
+        throw std::invalid_argument("interior evaluation: the solution's displacement/traction arrays do not match its surface mesh");
+    if (sol.cracks && sol.crack_opening.size() != sol.cracks->cracks.num_vertices())
+        throw std::invalid_argument("interior evaluation: the solution's crack opening does not match its crack mesh");
+}
+
+}  // namespace
+
+std::vector<Vec3> interior_displacement(const BemSolution& sol, const std::vector<Vec3>& points, bool include_cracks,
+                                        const InteriorQuadrature& q) {
+    check_sizes(sol);
+    const Sources src = collect(sol, include_cracks);
+    const Kernel k(sol.surface->elastic);
+    const double tol = on_surface_tolerance(sol);
+    for (const Vec3& x : points)
+        if (nearest(src.sigma, x).dist <= tol)
+            throw std::invalid_argument("interior displacement: point " + point_text(x) +
+                                        " lies on a crack sheet, where the displacement jumps; evaluate at a point "
+                                        "off the sheet or use crack_average_displacement");
+    std::vector<Vec3> out(points.size(), Vec3::Zero());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const Nearest nb = nearest(src.gamma, points[i]);
+            if (nb.dist <= tol) {  // boundary trace: the P1 interpolant
+                const Source& s = src.gamma[nb.index];
+                out[i] = nb.bary[0] * s.u[0] + nb.bary[1] * s.u[1] + nb.bary[2] * s.u[2];
+            } else {
+                out[i] = evaluate(k, src, points[i], false, q).u;
+            }
+        }
+    });
+    return out;
+}
+
+std::vector<Mat3> interior_displacement_gradient(const BemSolution& sol, const std::vector<Vec3>& points,
+                                                 bool include_cracks, const InteriorQuadrature& q) {
+    check_sizes(sol);
+    const Sources src = collect(sol, include_cracks);
+    const Kernel k(sol.surface->elastic);
+    const double tol = on_surface_tolerance(sol);
+    for (const Vec3& x : points) {
+        if (nearest(src.gamma, x).dist <= tol)
+            throw std::invalid_argument("interior stress: point " + point_text(x) +
+                                        " lies on the surface, where the stress kernels are singular; use a point inside");
+        if (nearest(src.sigma, x).dist <= tol)
+            throw std::invalid_argument("interior stress: point " + point_text(x) +
+                                        " lies on a crack sheet, where the stress kernels are singular; use a point off it");
+    }
+    std::vector<Mat3> out(points.size(), Mat3::Zero());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = evaluate(k, src, points[i], true, q).G;
+    });
+    return out;
+}
+
+std::vector<Mat3> interior_stress(const BemSolution& sol, const std::vector<Vec3>& points, bool include_cracks,
+                                  const InteriorQuadrature& q) {
+    std::vector<Mat3> G = interior_displacement_gradient(sol, points, include_cracks, q);
+    const double mu = sol.surface->elastic.mu, nu = sol.surface->elastic.nu;
+    const double lambda = 2 * mu * nu / (1 - 2 * nu);
+    for (Mat3& g : G) g = (lambda * g.trace() * Mat3::Identity() + mu * (g + g.transpose())).eval();
+    return G;
+}
+
+std::vector<Vec3> crack_average_displacement(const BemSolution& sol, const InteriorQuadrature& q) {
+    if (!sol.cracks) return {};
+    return interior_displacement(sol, sol.cracks->cracks.vertices, false, q);
+}
+
+}  // namespace cf::bem
