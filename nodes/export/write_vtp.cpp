@@ -1,0 +1,94 @@
+#include "nodes/export/mesh_checks.hpp"
+#include "nodes/export/number_text.hpp"
+#include "nodes/export/vtp_writer.hpp"
+
+#include <set>
+#include <stdexcept>
+
+namespace cf {
+
+namespace {
+
+std::string xml_escape(const std::string& s) {
+    std::string r;
+    for (char c : s) {
+        switch (c) {
+            case '&': r += "&amp;"; break;
+            case '<': r += "&lt;"; break;
+            case '>': r += "&gt;"; break;
+            case '"': r += "&quot;"; break;
+            default: r += c;
+        }
+    }
+    return r;
+}
+
+void check_arrays(const std::vector<VtpArray>& arrays, std::size_t tuples, const char* kind,
+                  std::set<std::string>& names) {
+    for (const VtpArray& a : arrays) {
+        const std::string id = std::string(kind) + " array '" + a.name + "'";
+        if (a.name.empty()) throw std::invalid_argument(std::string("cannot write .vtp: a ") + kind + " array has no name");
+        if (!names.insert(a.name).second)
+            throw std::invalid_argument("cannot write .vtp: two arrays are named '" + a.name + "'");
+        if (a.components != 1 && a.components != 3)
+            throw std::invalid_argument("cannot write .vtp: " + id + " has " + std::to_string(a.components) +
+                                        " components; use 1 (scalar) or 3 (vector)");
+        if (a.values.size() != tuples * static_cast<std::size_t>(a.components))
+            throw std::invalid_argument("cannot write .vtp: " + id + " has " + std::to_string(a.values.size()) +
+                                        " values, expected " + std::to_string(a.components) + " x " +
+                                        std::to_string(tuples));
+    }
+}
+
+void write_array(std::ostream& os, const VtpArray& a) {
+    os << "        <DataArray type=\"Float64\" Name=\"" << xml_escape(a.name) << "\" NumberOfComponents=\""
+       << a.components << "\" format=\"ascii\">\n";
+    for (std::size_t i = 0; i < a.values.size(); ++i) {
+        write_real(os, a.values[i]);
+        os << ((i + 1) % a.components == 0 ? '\n' : ' ');
+    }
+    os << "        </DataArray>\n";
+}
+
+}  // namespace
+
+void write_vtp(std::ostream& os, const SurfaceMesh& m, const VtpFields& fields) {
+    check_writable(m);
+    std::set<std::string> names{"region"};
+    check_arrays(fields.point_data, m.num_vertices(), "point", names);
+    for (const VtpArray& a : fields.cell_data)
+        if (a.name == "region")
+            throw std::invalid_argument("cannot write .vtp: cell array name 'region' is reserved for the region ids");
+    check_arrays(fields.cell_data, m.num_triangles(), "cell", names);
+
+    os << "<?xml version=\"1.0\"?>\n"
+       << "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+       << "  <PolyData>\n"
+       << "    <Piece NumberOfPoints=\"" << m.num_vertices() << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+       << "NumberOfStrips=\"0\" NumberOfPolys=\"" << m.num_triangles() << "\">\n";
+    os << "      <PointData>\n";
+    for (const VtpArray& a : fields.point_data) write_array(os, a);
+    os << "      </PointData>\n      <CellData Scalars=\"region\">\n"
+       << "        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) os << m.region_of(t) << '\n';
+    os << "        </DataArray>\n";
+    for (const VtpArray& a : fields.cell_data) write_array(os, a);
+    os << "      </CellData>\n      <Points>\n"
+       << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const Vec3& p : m.vertices) {
+        write_real(os, p.x());
+        os << ' ';
+        write_real(os, p.y());
+        os << ' ';
+        write_real(os, p.z());
+        os << '\n';
+    }
+    os << "        </DataArray>\n      </Points>\n      <Polys>\n"
+       << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const Tri& f : m.triangles) os << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+    os << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (std::size_t t = 1; t <= m.triangles.size(); ++t) os << 3 * t << (t % 16 == 0 ? '\n' : ' ');
+    os << "\n        </DataArray>\n      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+}
+
+}  // namespace cf

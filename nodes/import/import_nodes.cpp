@@ -1,0 +1,44 @@
+// Node adapters for the import stage.
+#include "nodes/import/read_mesh.hpp"
+#include "nodes/registration.hpp"
+
+#include "graph/node_context.hpp"
+
+namespace cf {
+
+void register_import_nodes(graph::NodeRegistry& r) {
+    graph::NodeType t("import.mesh",
+                      "Reads a closed triangle surface from OBJ, OFF, PLY or STL; polygons are fan-triangulated and "
+                      "every triangle gets region 0 named \"default\".");
+    t.output<SurfaceMesh>("mesh", "the checked surface, outward oriented, in metres");
+    t.param_string("path", "", "mesh file (.obj, .off, .ply, .stl), relative to the working directory").required();
+    t.param_bool("reorient", false,
+                 "re-orient inconsistent or inside-out faces instead of failing (consistent per shell, outward)");
+    t.param_real("scale", 1.0, "m", "length of one file unit in metres (0.001 for a file in millimetres)").above(0);
+    t.param_real("weld_tolerance", 0.0, "m",
+                 "merge vertices closer than this (after scaling); 0 disables (STL is always welded by exact position)")
+        .at_least(0);
+    t.run([](graph::NodeContext& c) {
+        ImportOptions o;
+        o.reorient = c.boolean("reorient");
+        o.scale = c.real("scale");
+        o.weld_tolerance = c.real("weld_tolerance");
+        ImportedMesh im;
+        try {
+            im = read_mesh_file(c.string("path"), o);
+        } catch (const MeshFileError& e) {
+            c.fail(e.what());
+        }
+        c.count("vertices", static_cast<double>(im.mesh.num_vertices()));
+        c.count("triangles", static_cast<double>(im.mesh.num_triangles()));
+        c.count("regions", static_cast<double>(im.mesh.num_regions()));
+        c.count("shells", static_cast<double>(im.report.components));
+        c.count("flipped_triangles", static_cast<double>(im.report.flipped_triangles));
+        c.count("welded_vertices", static_cast<double>(im.report.welded_vertices));
+        c.count("unreferenced_vertices", static_cast<double>(im.report.unreferenced_vertices));
+        c.out("mesh", std::move(im.mesh));
+    });
+    r.add(std::move(t));
+}
+
+}  // namespace cf

@@ -1,0 +1,48 @@
+#include "nodes/import/mesh_soup.hpp"
+
+#include <sstream>
+
+namespace cf {
+
+std::string describe(const std::string& file, const FileLocation& where) {
+    if (where.line > 0) return file + ":" + std::to_string(where.line);
+    if (where.byte_offset >= 0) return file + ": byte " + std::to_string(where.byte_offset);
+    return file;
+}
+
+std::string file_error(const std::string& file, const FileLocation& where, const std::string& what,
+                       const std::string& fix) {
+    return describe(file, where) + ": error: " + what + "; " + fix;
+}
+
+std::string file_error(const std::string& file, const std::string& what, const std::string& fix) {
+    return file + ": error: " + what + "; " + fix;
+}
+
+std::string quote_token(std::string_view token) {
+    static const char* hex = "0123456789abcdef";
+    std::string r = "'";
+    for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
+        const unsigned char c = static_cast<unsigned char>(token[i]);
+        if (c >= 32 && c < 127) r += static_cast<char>(c);
+        else r += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    }
+    if (token.size() > 40) r += "...";
+    return r + "'";
+}
+
+std::string format_number(double v) {
+    std::ostringstream s;
+    s.precision(6);
+    s << v;
+    return s.str();
+}
+
+std::string format_point(const Vec3& p) {
+    std::ostringstream s;
+    s.precision(10);
+    s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+    return s.str();
+}
+
+}  // namespace cf

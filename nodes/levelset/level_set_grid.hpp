@@ -1,0 +1,30 @@
+#pragma once
+// The OpenVDB side of cf::LevelSet. Include ONLY from the OpenVDB translation units
+// (nodes/levelset/level_set.cpp, crack_grids.cpp, nodes/segment/segmentation.cpp,
+// nodes/segment/preview_render.cpp): each costs ~25 s to compile.
+#include "nodes/levelset/level_set.hpp"
+
+#include <openvdb/openvdb.h>
+
+namespace cf {
+
+struct LevelSetGrid {
+    openvdb::FloatGrid::Ptr grid;
+};
+
+// Calls openvdb::initialize() once (thread-safe).
+void ensure_openvdb_initialized();
+
+inline LevelSet wrap_grid(openvdb::FloatGrid::Ptr g, double voxel_size, double half_width) {
+    LevelSet ls;
+    ls.grid = std::make_shared<const LevelSetGrid>(LevelSetGrid{std::move(g)});
+    ls.voxel_size = voxel_size;
+    ls.half_width = half_width;
+    return ls;
+}
+inline const openvdb::FloatGrid& grid_of(const LevelSet& ls) {
+    if (!ls.grid || !ls.grid->grid) throw std::invalid_argument("level set is empty");
+    return *ls.grid->grid;
+}
+
+}  // namespace cf

@@ -1,0 +1,24 @@
+#pragma once
+// A preview PNG of the fragments (ch. 6.4), exploded away from their common centroid, ray
+// traced on the level sets (OpenVDB LevelSetRayTracer) with a clamped two-light Lambert shader.
+#include "nodes/segment/fragments.hpp"
+
+#include <filesystem>
+
+namespace cf {
+
+struct PreviewOptions {
+    int width = 640, height = 480;  // [pixels]
+    double explode = 0.3;           // each fragment moves by explode x (its centroid - common centroid)
+    int samples_per_pixel = 1;
+};
+
+// Writes the PNG atomically. Throws std::invalid_argument for an empty fragment list or a bad
+// size, std::runtime_error if the PNG cannot be written.
+void render_fragments_preview(const std::filesystem::path& png, const Fragments& fragments,
+                              const PreviewOptions& options = {});
+
+// Writes an 8-bit RGB image (row 0 at the top) as PNG, atomically.
+void write_png_rgb(const std::filesystem::path& png, int width, int height, const unsigned char* rgb);
+
+}  // namespace cf

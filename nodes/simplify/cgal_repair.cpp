@@ -1,0 +1,88 @@
+// CGAL translation unit: exact self-intersection detection and hole filling (ch. 6.1;
+// docs/libraries.md section 3). Rarely touched, so its ~40 s compile is paid once.
+#include "nodes/simplify/mesh_repair.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <stdexcept>
+
+namespace cf {
+
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+Mesh to_cgal(const SurfaceMesh& in) {
+    std::vector<Kernel::Point_3> points;
+    points.reserve(in.vertices.size());
+    for (const Vec3& v : in.vertices) points.emplace_back(v.x(), v.y(), v.z());
+    std::vector<std::vector<std::size_t>> polys;
+    polys.reserve(in.triangles.size());
+    for (const Tri& t : in.triangles) polys.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+    if (!PMP::is_polygon_soup_a_polygon_mesh(polys))
+        throw std::invalid_argument("mesh repair needs a manifold, consistently oriented mesh");
+    Mesh mesh;
+    PMP::polygon_soup_to_polygon_mesh(points, polys, mesh);
+    return mesh;
+}
+}  // namespace
+
+std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& in) {
+    // Build directly (no soup check): face i of the CGAL mesh is triangle i.
+    Mesh mesh;
+    std::vector<Mesh::Vertex_index> vs;
+    vs.reserve(in.vertices.size());
+    for (const Vec3& v : in.vertices) vs.push_back(mesh.add_vertex(Kernel::Point_3(v.x(), v.y(), v.z())));
+    std::vector<int> face_to_tri;
+    for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+        const Tri& tri = in.triangles[t];
+        if (mesh.add_face(vs[tri[0]], vs[tri[1]], vs[tri[2]]) == Mesh::null_face())
+            throw std::invalid_argument("self-intersection test needs a manifold, oriented mesh (triangle " +
+                                        std::to_string(t) + " cannot be added)");
+        face_to_tri.push_back(int(t));
+    }
+    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+    PMP::self_intersections(mesh.faces(), mesh, std::back_inserter(pairs));
+    std::vector<std::pair<int, int>> out;
+    out.reserve(pairs.size());
+    for (auto& [a, b] : pairs) out.emplace_back(face_to_tri[a.idx()], face_to_tri[b.idx()]);
+    return out;
+}
+
+std::size_t fill_holes(SurfaceMesh& in) {
+    Mesh mesh = to_cgal(in);
+    std::vector<Mesh::Halfedge_index> borders;
+    for (auto h : mesh.halfedges())
+        if (mesh.is_border(h)) borders.push_back(h);
+    std::size_t filled = 0;
+    std::vector<char> done(mesh.number_of_halfedges(), 0);
+    for (auto h : borders) {
+        if (done[h.idx()] || !mesh.is_border(h)) continue;
+        for (auto g : CGAL::halfedges_around_face(h, mesh)) done[g.idx()] = 1;
+        std::vector<Mesh::Face_index> patch;
+        PMP::triangulate_hole(mesh, h, std::back_inserter(patch));
+        if (patch.empty()) throw std::runtime_error("hole filling failed for a boundary loop");
+        ++filled;
+    }
+    mesh.collect_garbage();
+    SurfaceMesh out;
+    for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        out.vertices.emplace_back(p.x(), p.y(), p.z());
+    }
+    for (auto f : mesh.faces()) {
+        Tri t{};
+        int k = 0;
+        for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = int(v.idx());
+        out.triangles.push_back(t);
+    }
+    in = std::move(out);
+    return filled;
+}
+
+}  // namespace cf

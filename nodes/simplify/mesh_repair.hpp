@@ -1,0 +1,25 @@
+#pragma once
+// CGAL-backed mesh operations behind a plain cf::SurfaceMesh interface (CGAL is included only
+// by qem_simplify.cpp and cgal_repair.cpp; CGAL adds -frounding-math and slow headers).
+#include "nodes/domain/surface_mesh.hpp"
+
+#include <utility>
+#include <vector>
+
+namespace cf {
+
+// Quadric-error edge collapse (Garland-Heckbert plane quadrics, CGAL SMS) of a closed manifold
+// mesh down to `target_triangles` (closed meshes: stops at 3 F / 2 edges). Keeps topology;
+// stops early where the genus forbids further collapses. Throws std::invalid_argument if the
+// input is not a closed manifold polygon mesh.
+SurfaceMesh simplify_to_count(const SurfaceMesh& mesh, std::size_t target_triangles);
+
+// Pairs of triangles that intersect other than in their shared vertices/edge (exact predicates).
+std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& mesh);
+
+// Fills every hole (boundary loop) of a manifold mesh by minimum-weight triangulation without
+// new vertices. Returns the number of holes filled. Throws std::runtime_error if a hole cannot
+// be filled.
+std::size_t fill_holes(SurfaceMesh& mesh);
+
+}  // namespace cf

@@ -1,0 +1,154 @@
+#include "nodes/simplify/remesh.hpp"
+
+#include "nodes/domain/mesh_topology.hpp"
+#include "nodes/simplify/mesh_repair.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace cf {
+
+SurfaceMesh without_unused_vertices(const SurfaceMesh& m) {
+    std::vector<int> map(m.vertices.size(), -1);
+    SurfaceMesh out;
+    out.region = m.region;
+    out.region_names = m.region_names;
+    for (const Tri& t : m.triangles) {
+        Tri n{};
+        for (int k = 0; k < 3; ++k) {
+            int& id = map[t[k]];
+            if (id < 0) {
+                id = int(out.vertices.size());
+                out.vertices.push_back(m.vertices[t[k]]);
+            }
+            n[k] = id;
+        }
+        out.triangles.push_back(n);
+    }
+    return out;
+}
+
+void offset_along_normals(SurfaceMesh& mesh, double distance) {
+    std::vector<Vec3> normal(mesh.vertices.size(), Vec3::Zero());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Vec3 n = triangle_normal_unnormalised(mesh, t);  // |n| = 2 area: area weighting
+        for (int v : mesh.triangles[t]) normal[v] += n;
+    }
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        const double len = normal[v].norm();
+        if (len > 0) mesh.vertices[v] += distance / len * normal[v];
+    }
+}
+
+namespace {
+
+// Vertices whose remaining incident triangles form more than one fan (a pinch after deletion).
+std::vector<int> pinched_vertices(const SurfaceMesh& m, const std::vector<char>& keep) {
+    std::vector<std::vector<std::pair<int, int>>> link(m.vertices.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        if (!keep[t]) continue;
+        const Tri& tri = m.triangles[t];
+        for (int k = 0; k < 3; ++k) link[tri[k]].push_back({tri[(k + 1) % 3], tri[(k + 2) % 3]});
+    }
+    std::vector<int> out;
+    for (std::size_t v = 0; v < link.size(); ++v) {
+        if (link[v].size() < 2) continue;
+        std::unordered_map<int, int> parent;
+        auto root = [&](int x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        for (auto [a, b] : link[v]) {
+            if (!parent.count(a)) parent[a] = a;
+            if (!parent.count(b)) parent[b] = b;
+            parent[root(a)] = root(b);
+        }
+        int comps = 0;
+        for (auto& [x, p] : parent)
+            if (root(x) == x) ++comps;
+        if (comps > 1) out.push_back(int(v));
+    }
+    return out;
+}
+
+}  // namespace
+
+int repair_self_intersections(SurfaceMesh& mesh, int max_rounds) {
+    for (int round = 0; round < max_rounds; ++round) {
+        const auto pairs = self_intersecting_pairs(mesh);
+        if (pairs.empty()) return round;
+        // Vertices of the intersecting triangles, widened by `round` vertex rings.
+        std::vector<char> marked(mesh.vertices.size(), 0);
+        for (auto [a, b] : pairs)
+            for (int t : {a, b})
+                for (int v : mesh.triangles[t]) marked[v] = 1;
+        for (int r = 0; r < round; ++r) {
+            std::vector<char> next = marked;
+            for (const Tri& t : mesh.triangles)
+                if (marked[t[0]] || marked[t[1]] || marked[t[2]])
+                    for (int v : t) next[v] = 1;
+            marked.swap(next);
+        }
+        // Delete the one-ring (every triangle touching a marked vertex), then any pinches.
+        std::vector<char> keep(mesh.triangles.size(), 1);
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+            for (int v : mesh.triangles[t])
+                if (marked[v]) keep[t] = 0;
+        for (int guard = 0; guard < 100; ++guard) {
+            const auto pinched = pinched_vertices(mesh, keep);
+            if (pinched.empty()) break;
+            for (int v : pinched)
+                for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+                    if (keep[t] && std::find(mesh.triangles[t].begin(), mesh.triangles[t].end(), v) != mesh.triangles[t].end())
+                        keep[t] = 0;
+        }
+        SurfaceMesh kept;
+        kept.vertices = mesh.vertices;
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+            if (keep[t]) kept.triangles.push_back(mesh.triangles[t]);
+        if (kept.triangles.size() < mesh.triangles.size() / 2)
+            throw std::runtime_error("self-intersection repair would delete more than half of the mesh (" +
+                                     std::to_string(pairs.size()) + " intersecting pairs)");
+        kept = without_unused_vertices(kept);
+        fill_holes(kept);
+        mesh = std::move(kept);
+    }
+    return max_rounds;
+}
+
+RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt) {
+    if (opt.target_triangles < 4)
+        throw std::invalid_argument("target triangle count must be at least 4, got " + std::to_string(opt.target_triangles));
+    if (!(opt.offset_voxels >= 0))
+        throw std::invalid_argument("offset must be a non-negative number of voxels, got " + std::to_string(opt.offset_voxels));
+    RemeshResult res;
+    SurfaceMesh dense = without_unused_vertices(level_set_to_mesh(object, opt.adaptivity));
+    res.dense_triangles = dense.num_triangles();
+    if (dense.triangles.empty()) throw std::runtime_error("the level set has no surface to mesh");
+    const MeshTopologyReport dense_topo = check_topology(dense);
+    if (!dense_topo.is_closed_manifold())
+        throw std::runtime_error("the dual-contoured mesh is not a closed manifold (" + dense_topo.describe() +
+                                 "); try a smaller voxel size");
+    if (dense.num_triangles() < opt.target_triangles)
+        throw std::invalid_argument("target of " + std::to_string(opt.target_triangles) +
+                                    " triangles exceeds the dual-contoured mesh (" + std::to_string(dense.num_triangles()) +
+                                    " triangles); lower the target or the voxel size");
+    SurfaceMesh mesh = without_unused_vertices(simplify_to_count(dense, opt.target_triangles));
+    offset_along_normals(mesh, opt.offset_voxels * object.voxel_size);
+    res.self_intersections_before = self_intersecting_pairs(mesh).size();
+    if (res.self_intersections_before > 0) res.repair_rounds = repair_self_intersections(mesh, opt.max_repair_rounds);
+    res.self_intersections_after = self_intersecting_pairs(mesh).size();
+    const MeshTopologyReport topo = check_topology(mesh);
+    if (!topo.is_closed_manifold() || res.self_intersections_after > 0)
+        throw std::runtime_error("remeshing could not meet its guarantees: " + topo.describe() + ", " +
+                                 std::to_string(res.self_intersections_after) + " self-intersecting pairs left");
+    if (!(signed_volume(mesh) > 0)) throw std::runtime_error("remeshed surface is inward oriented");
+    res.mesh = std::move(mesh);
+    return res;
+}
+
+}  // namespace cf

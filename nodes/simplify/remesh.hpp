@@ -1,0 +1,44 @@
+#pragma once
+// Coarse BEM mesh from an object level set (thesis ch. 6.1, App. A items 13-14): dual
+// contouring (OpenVDB volumeToMesh) -> QEM simplification to a target triangle count ->
+// self-intersecting pairs found, their one-ring deleted and the holes filled -> vertices moved
+// outward by k voxels along the vertex normals. The result is checked: closed, manifold,
+// consistently oriented, no self-intersections.
+#include "nodes/domain/surface_mesh.hpp"
+#include "nodes/levelset/level_set.hpp"
+
+namespace cf {
+
+struct RemeshOptions {
+    std::size_t target_triangles = 1000;  // App. A item 13
+    double offset_voxels = 1;             // App. A item 14: outward offset in multiples of r_f
+    double adaptivity = 0;                // dual-contouring adaptivity of the dense mesh, [0, 1]
+    int max_repair_rounds = 6;            // each round deletes a wider neighbourhood
+};
+
+struct RemeshResult {
+    SurfaceMesh mesh;
+    std::size_t dense_triangles = 0;            // dual-contoured mesh before simplification
+    std::size_t self_intersections_before = 0;  // after simplification and offset, before repair
+    std::size_t self_intersections_after = 0;   // always 0 on success
+    int repair_rounds = 0;
+};
+
+// Throws std::invalid_argument for a target below 4 triangles or a negative offset, and
+// std::runtime_error naming what failed if the guarantees cannot be met.
+RemeshResult remesh(const LevelSet& object, const RemeshOptions& options);
+
+// Moves every vertex by `distance` [m] along its area-weighted vertex normal (outward for an
+// outward-oriented mesh).
+void offset_along_normals(SurfaceMesh& mesh, double distance);
+
+// Deletes the one-ring of every self-intersecting triangle (widening the ring each round), also
+// removing the star of any vertex left pinched, and fills the holes; repeats until no pair is
+// left or `max_rounds` is reached. Returns the number of rounds used; the caller checks the
+// remaining pairs.
+int repair_self_intersections(SurfaceMesh& mesh, int max_rounds);
+
+// Drops vertices no triangle uses (indices renumbered).
+SurfaceMesh without_unused_vertices(const SurfaceMesh& mesh);
+
+}  // namespace cf

@@ -1,0 +1,62 @@
+// Node adapter for nodes/simplify: simplify.remesh (ch. 6.1).
+#include "graph/node_context.hpp"
+#include "graph/registry.hpp"
+#include "nodes/domain/mesh_topology.hpp"
+#include "nodes/registration.hpp"
+#include "nodes/regions/assign_regions.hpp"
+#include "nodes/simplify/remesh.hpp"
+
+#include <stdexcept>
+
+namespace cf {
+namespace {
+
+graph::NodeType remesh_node() {
+    graph::NodeType t("simplify.remesh",
+                      "Coarse BEM mesh from the object level set: dual contouring, QEM simplification to a target "
+                      "triangle count (Garland-Heckbert), self-intersection repair (delete one-ring, fill holes), "
+                      "outward offset along vertex normals (ch. 6.1, App. A items 13-14). Guarantees a closed, "
+                      "manifold, oriented mesh without self-intersections; the count within 5 % of the target.");
+    t.input<LevelSet>("level_set", "object signed distance grid");
+    t.param_int("target_triangles", 1000, "target triangle count (App. A item 13)").range(4, 10000000);
+    t.param_real("offset_voxels", 1, "voxels", "outward offset in multiples of r_f (App. A item 14)").range(0, 3);
+    t.param_real("adaptivity", 0, "", "adaptivity of the dense dual-contoured mesh, [0, 1]").range(0, 1);
+    t.param_string("regions", "",
+                   "boundary regions by half-spaces (nodes/regions spec, e.g. as for regions.halfspace); empty: "
+                   "one region 'surface'");
+    t.output<SurfaceMesh>("mesh", "closed coarse mesh, outward oriented");
+    t.run([](graph::NodeContext& c) {
+        RemeshOptions o;
+        o.target_triangles = std::size_t(c.integer("target_triangles"));
+        o.offset_voxels = c.real("offset_voxels");
+        o.adaptivity = c.real("adaptivity");
+        RemeshResult r;
+        try {
+            r = remesh(c.in<LevelSet>("level_set"), o);
+        } catch (const std::exception& e) {
+            c.fail(e.what());
+        }
+        SurfaceMesh mesh = std::move(r.mesh);
+        mesh.region_names = {"surface"};
+        if (!c.string("regions").empty()) {
+            try {
+                mesh = assign_regions(mesh, parse_region_spec(c.string("regions")), false).mesh;
+            } catch (const std::exception& e) {
+                c.fail(std::string("parameter 'regions': ") + e.what());
+            }
+        }
+        c.count("dense_triangles", double(r.dense_triangles));
+        c.count("triangles", double(mesh.num_triangles()));
+        c.count("vertices", double(mesh.num_vertices()));
+        c.count("self_intersections_repaired", double(r.self_intersections_before));
+        c.count("repair_rounds", r.repair_rounds);
+        c.out("mesh", std::move(mesh));
+    });
+    return t;
+}
+
+}  // namespace
+
+void register_simplify_nodes(graph::NodeRegistry& r) { r.add(remesh_node()); }
+
+}  // namespace cf

@@ -1,0 +1,207 @@
+// Crack grids (ch. 6.2): thickened distance against exact and OpenVDB reference values,
+// incremental union, parallel recording independent of scheduling, and the marker tests of
+// fig. 27 / eq. (6.2).
+#include "nodes/levelset/crack_grids.hpp"
+#include "nodes/levelset/level_set.hpp"
+#include "tests/levelset/test_meshes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+namespace cf {
+namespace {
+
+constexpr double kRf = 0.02;
+const double kThick = std::sqrt(3.0) * kRf / 2;
+
+// A straight front along y at x = x0 (z = 0), n markers over y in [-0.3, 0.3].
+std::vector<Vec3> line_front(double x0, int n = 13) {
+    std::vector<Vec3> f;
+    for (int i = 0; i < n; ++i) f.emplace_back(x0, -0.3 + 0.6 * i / (n - 1), 0);
+    return f;
+}
+FrontMotion advance(double x0, double x1) { return FrontMotion{line_front(x0), line_front(x1), false}; }
+
+TEST(CrackGrid, ThickenedDistanceOfAPlanarSheetIsExact) {
+    CrackRecorder rec(kRf);
+    rec.add_crack();
+    rec.add_triangles(0, strip_triangles(advance(-0.2, 0.2)));  // sheet x in [-0.2,0.2], y in [-0.3,0.3]
+    const LevelSet crack = rec.snapshot().cracks[0];
+    // Above the sheet interior: |z| - sqrt(3) r_f / 2.
+    for (double z : {0.0, 0.005, -0.013, 0.03, -0.041})
+        EXPECT_NEAR(sample(crack, Vec3(0.011, 0.017, z)), std::abs(z) - kThick, 1e-5) << "z=" << z;
+    // Beyond the front edge at x = 0.2: distance to the edge line.
+    EXPECT_NEAR(sample(crack, Vec3(0.24, 0.0, 0.0)), 0.04 - kThick, 1e-5);
+    // Outside the band: background +3 r_f.
+    EXPECT_NEAR(sample(crack, Vec3(0, 0, 0.2)), 3 * kRf, 1e-7);
+    // The thin volume Phi_f < 0 encloses the surface: every voxel centre on the sheet is negative.
+    EXPECT_LT(sample(crack, Vec3(0.1, 0.1, 0)), 0);
+}
+
+TEST(CrackGrid, RasteriserAgreesWithOpenVdbMeshToUnsignedDistance) {
+    // A tilted, curved strip: three markers moving obliquely.
+    FrontMotion m{{Vec3(0, 0, 0), Vec3(0.1, 0.13, 0.02), Vec3(0.2, 0.21, 0.09)},
+                  {Vec3(0.07, -0.05, 0.11), Vec3(0.18, 0.06, 0.15), Vec3(0.3, 0.17, 0.22)}, false};
+    const auto tris = strip_triangles(m);
+    ASSERT_EQ(tris.size(), 4u);
+    CrackRecorder rec(kRf);
+    rec.add_crack();
+    const std::size_t written = rec.add_triangles(0, tris);
+    const LevelSet mine = rec.snapshot().cracks[0];
+    const LevelSet ref = reference_strip_level_set(tris, kRf);
+    EXPECT_GT(written, 1000u);
+    // Compare on a lattice of voxel centres well inside the band (OpenVDB's band edge differs).
+    double worst = 0;
+    int n = 0;
+    for (int i = -10; i <= 25; ++i)
+        for (int j = -10; j <= 25; ++j)
+            for (int k = -5; k <= 20; ++k) {
+                const Vec3 p(i * kRf, j * kRf, k * kRf);
+                const double a = sample(mine, p), b = sample(ref, p);
+                if (b > 2 * kRf) continue;
+                worst = std::max(worst, std::abs(a - b));
+                ++n;
+            }
+    EXPECT_GT(n, 500);
+    EXPECT_LT(worst, 1e-3 * kRf);  // float storage, both exact distances
+}
+
+TEST(CrackGrid, IncrementalRecordingEqualsRecordingEverythingAtOnce) {
+    CrackRecorder inc(kRf), all(kRf);
+    inc.add_crack();
+    all.add_crack();
+    std::vector<Triangle3> every;
+    std::vector<std::size_t> per_step;
+    for (int s = 0; s < 4; ++s) {
+        const auto strip = strip_triangles(advance(-0.2 + 0.1 * s, -0.1 + 0.1 * s));
+        std::size_t w = 0;
+        inc.record_substep({advance(-0.2 + 0.1 * s, -0.1 + 0.1 * s)}, nullptr, &w);
+        every.insert(every.end(), strip.begin(), strip.end());
+        per_step.push_back(w);
+    }
+    all.add_triangles(0, every);
+    const LevelSet a = inc.snapshot().cracks[0], b = all.snapshot().cracks[0];
+    EXPECT_EQ(active_voxel_count(a), active_voxel_count(b));
+    for (double x = -0.3; x <= 0.3; x += 0.013)
+        for (double z = -0.07; z <= 0.07; z += 0.011) EXPECT_EQ(sample(a, Vec3(x, 0.05, z)), sample(b, Vec3(x, 0.05, z)));
+    // Only the new strip is voxelised: equal strips cost the same work whatever the size of the
+    // crack recorded so far (the fourth sub-step costs what the first did).
+    EXPECT_GT(per_step[0], 0u);
+    EXPECT_NEAR(double(per_step[3]) / double(per_step[0]), 1.0, 0.05);
+}
+
+TEST(CrackGrid, ParallelRecordingAcrossCracksIsIndependentOfThreadCount) {
+    auto run = [](int threads) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+        CrackRecorder rec(kRf);
+        std::vector<FrontMotion> motions;
+        for (int c = 0; c < 4; ++c) {
+            rec.add_crack();
+            FrontMotion m = advance(-0.2, 0.1);
+            for (auto* v : {&m.p0, &m.p1})
+                for (Vec3& p : *v) p.z() += 0.2 * c;
+            motions.push_back(m);
+        }
+        rec.record_substep(motions, nullptr);
+        return rec.release();
+    };
+    const CrackLevelSets one = run(1), two = run(2);
+    ASSERT_EQ(one.cracks.size(), 4u);
+    for (int c = 0; c < 4; ++c) {
+        EXPECT_EQ(active_voxel_count(one.cracks[c]), active_voxel_count(two.cracks[c]));
+        for (double x = -0.25; x <= 0.15; x += 0.017)
+            EXPECT_EQ(sample(one.cracks[c], Vec3(x, 0.1, 0.2 * c + 0.01)), sample(two.cracks[c], Vec3(x, 0.1, 0.2 * c + 0.01)));
+        EXPECT_NEAR(sample(one.cracks[c], Vec3(0, 0, 0.2 * c)), -kThick, 1e-6);
+    }
+}
+
+TEST(MarkerTest, LeftTheObject) {
+    const LevelSet object = level_set_from_mesh(testmesh::box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), kRf);
+    EXPECT_EQ(test_marker(&object, {}, -1, Vec3(0.4, 0, 0), Vec3(0.49, 0, 0)).hit, MarkerHit::none);
+    EXPECT_EQ(test_marker(&object, {}, -1, Vec3(0.45, 0, 0), Vec3(0.52, 0, 0)).hit, MarkerHit::left_object);
+}
+
+TEST(MarkerTest, CrossingAnotherCrackIsFoundEvenWhenBothEndsAreOutsideIt) {
+    CrackRecorder rec(kRf);
+    rec.add_crack();
+    rec.add_triangles(0, strip_triangles(advance(-0.2, 0.2)));  // sheet at z = 0
+    const std::vector<LevelSet> cracks = rec.snapshot().cracks;
+    // Grazing: endpoints 2.5 r_f above/below the sheet (outside its sqrt(3) r_f thin volume).
+    const MarkerTest t = test_marker(nullptr, cracks, 1, Vec3(0.05, 0, 0.05), Vec3(0.05, 0, -0.05));
+    EXPECT_EQ(t.hit, MarkerHit::crossed_crack);
+    EXPECT_EQ(t.other_crack, 0);
+    EXPECT_NEAR(t.alpha, 0.5, 0.2);
+    // Oblique crossing, nearly parallel: 1 r_f drop over 20 r_f of travel.
+    EXPECT_EQ(test_marker(nullptr, cracks, 1, Vec3(-0.18, 0.1, 0.5 * kRf + kThick), Vec3(0.18, 0.1, -0.5 * kRf - kThick)).hit,
+              MarkerHit::crossed_crack);
+    // Parallel at 1.5 thickness: no crossing. Beyond the sheet's edge: none.
+    EXPECT_EQ(test_marker(nullptr, cracks, 1, Vec3(-0.1, 0, 1.5 * kThick), Vec3(0.1, 0, 1.5 * kThick)).hit, MarkerHit::none);
+    EXPECT_EQ(test_marker(nullptr, cracks, 1, Vec3(0.3, 0, 0.05), Vec3(0.3, 0, -0.05)).hit, MarkerHit::none);
+    // The marker's own crack is not "another" crack.
+    EXPECT_NE(test_marker(nullptr, cracks, 0, Vec3(0.05, 0, 0.05), Vec3(0.05, 0, -0.05)).hit, MarkerHit::crossed_crack);
+}
+
+TEST(MarkerTest, SelfIntersectionByEquation62) {
+    CrackRecorder rec(kRf);
+    rec.add_crack();
+    rec.add_triangles(0, strip_triangles(advance(-0.2, 0.2)));
+    const std::vector<LevelSet> own = rec.snapshot().cracks;
+    // A marker of the same crack, away from the sheet, heading back into it: hit.
+    const MarkerTest back = test_marker(nullptr, own, 0, Vec3(0, 0, 0.2), Vec3(0, 0, -0.01));
+    EXPECT_EQ(back.hit, MarkerHit::self_intersection);
+    // Leaving the sheet perpendicular from on it: Phi_f(p0) < 0, moving away: no hit.
+    EXPECT_EQ(test_marker(nullptr, own, 0, Vec3(0, 0, 0), Vec3(0, 0, 0.2)).hit, MarkerHit::none);
+    // Propagating forward in the plane from the front edge: no hit.
+    EXPECT_EQ(test_marker(nullptr, own, 0, Vec3(0.2, 0, 0), Vec3(0.26, 0, 0)).hit, MarkerHit::none);
+    // Kinking by 30 degrees out of the plane at the front: no hit (within the 45-degree cone).
+    EXPECT_EQ(test_marker(nullptr, own, 0, Vec3(0.2, 0, 0), Vec3(0.2 + 0.06 * std::cos(0.52), 0, 0.06 * std::sin(0.52))).hit,
+              MarkerHit::none);
+}
+
+TEST(MarkerTest, RecordSubstepReportsWhichCaseHitAndStillRecords) {
+    const LevelSet object = level_set_from_mesh(testmesh::box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), kRf);
+    CrackRecorder rec(kRf);
+    rec.add_crack();
+    rec.add_crack();
+    rec.add_triangles(0, strip_triangles(advance(-0.2, 0.2)));  // crack 0: sheet at z = 0
+    // Crack 1: a front in the plane x = 0.1 moving down through crack 0; one marker also leaves
+    // the object at the end; crack 0 grows in its plane.
+    FrontMotion down{{Vec3(0.1, -0.1, 0.06), Vec3(0.1, 0.0, 0.06), Vec3(0.1, 0.45, 0.06)},
+                     {Vec3(0.1, -0.1, 0.06), Vec3(0.1, 0.0, -0.04), Vec3(0.1, 0.55, 0.06)}, false};
+    std::size_t written = 0;
+    const auto tests = rec.record_substep({advance(0.2, 0.25), down}, &object, &written);
+    ASSERT_EQ(tests.size(), 2u);
+    for (const MarkerTest& t : tests[0]) EXPECT_EQ(t.hit, MarkerHit::none);
+    EXPECT_EQ(tests[1][0].hit, MarkerHit::none);  // did not move
+    EXPECT_EQ(tests[1][1].hit, MarkerHit::crossed_crack);
+    EXPECT_EQ(tests[1][1].other_crack, 0);
+    EXPECT_EQ(tests[1][2].hit, MarkerHit::left_object);
+    EXPECT_STREQ(to_string(tests[1][2].hit), "left_object");
+    EXPECT_GT(written, 0u);
+    const CrackLevelSets s = rec.snapshot();
+    EXPECT_LT(sample(s.cracks[0], Vec3(0.24, 0, 0)), 0);   // crack 0 grew to x = 0.25
+    EXPECT_LT(sample(s.cracks[1], Vec3(0.1, 0.0, 0.0)), 0);  // crack 1 recorded its strip
+}
+
+TEST(CrackGridErrors, PlanarCrackRejectsBadParameters) {
+    EXPECT_THROW(planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0, kRf), std::invalid_argument);
+    EXPECT_THROW(planar_disk_crack(Vec3::Zero(), Vec3::Zero(), 0.1, kRf), std::invalid_argument);
+    CrackRecorder rec(kRf);
+    EXPECT_THROW(rec.record_substep({advance(0, 0.1)}, nullptr), std::invalid_argument);  // no crack 0
+}
+
+TEST(CrackGrid, PlanarDiskMatchesTheDiskDistance) {
+    const Vec3 n = Vec3(1, 1, 0.5).normalized();
+    const LevelSet disk = planar_disk_crack(Vec3(0.1, 0, 0), n, 0.3, kRf);
+    const Vec3 e = n.cross(Vec3::UnitZ()).normalized();  // in-plane direction
+    EXPECT_NEAR(sample(disk, Vec3(0.1, 0, 0) + 0.02 * n), 0.02 - kThick, 0.02 * kRf);
+    EXPECT_NEAR(sample(disk, Vec3(0.1, 0, 0) + 0.15 * e - 0.03 * n), 0.03 - kThick, 0.02 * kRf);
+    // Beyond the rim: distance to the circle, r - R (sag below r_f / 10).
+    EXPECT_NEAR(sample(disk, Vec3(0.1, 0, 0) + 0.34 * e), 0.04 - kThick, 0.12 * kRf);
+}
+
+}  // namespace
+}  // namespace cf

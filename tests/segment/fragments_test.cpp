@@ -1,0 +1,150 @@
+// Fragments (ch. 6.3): verification cases 9-11 as tests, plus the over-segmentation threshold
+// range, the tile-aware search against the plain one, listings and bad inputs.
+#include "nodes/levelset/crack_grids.hpp"
+#include "nodes/levelset/level_set.hpp"
+#include "nodes/segment/fragments.hpp"
+#include "nodes/segment/levelset_verification.hpp"
+#include "tests/levelset/test_meshes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace cf {
+namespace {
+
+constexpr double kRf = 0.02;
+
+LevelSet cube() { return level_set_from_mesh(testmesh::box(Vec3::Constant(-0.5), Vec3::Constant(0.5)), kRf); }
+
+std::string slurp(const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+TEST(VerificationCase, planar_cut_two_fragments) {
+    const VerificationResult r = verify_planar_cut_two_fragments();
+    EXPECT_TRUE(r.passed) << r.details << " error " << r.error << " tol " << r.tolerance;
+    std::cout << "[case 9] " << r.details << "; rel. error " << r.error << " (bar " << r.tolerance << ")\n";
+}
+
+TEST(VerificationCase, interior_crack_one_fragment) {
+    const VerificationResult r = verify_interior_crack_one_fragment();
+    EXPECT_TRUE(r.passed) << r.details << " error " << r.error << " tol " << r.tolerance;
+    std::cout << "[case 10] " << r.details << "; error " << r.error << " (bar " << r.tolerance << ")\n";
+}
+
+TEST(VerificationCase, spindle_removed) {
+    const VerificationResult r = verify_spindle_removed();
+    EXPECT_TRUE(r.passed) << r.details << " error " << r.error << " tol " << r.tolerance;
+    std::cout << "[case 11] " << r.details << "; error " << r.error << " (bar " << r.tolerance << ")\n";
+}
+
+TEST(Fragments, PlanarCutVolumesCentroidsAndBoxesMatchTheHalves) {
+    const double z = 0.031, t = std::sqrt(3.0) * kRf / 2;
+    const LevelSet obj = cube();
+    const Fragments f = find_fragments(broken_object(obj, {kRf, 3, {planar_disk_crack(Vec3(0, 0, z), Vec3::UnitZ(), 1, kRf)}}));
+    ASSERT_EQ(f.fragments.size(), 2u);
+    // Largest first: the lower part z in [-0.5, z - t], then the upper part [z + t, 0.5].
+    const double v_low = (z - t + 0.5), v_up = (0.5 - z - t);
+    const double layer = 1.0 * kRf;  // one voxel layer over the 1 m^2 section
+    EXPECT_NEAR(f.fragments[0].volume, v_low, layer);
+    EXPECT_NEAR(f.fragments[1].volume, v_up, layer);
+    EXPECT_NEAR(f.fragments[0].centroid.z(), (-0.5 + z - t) / 2, 0.5 * kRf);
+    EXPECT_NEAR(f.fragments[1].centroid.z(), (0.5 + z + t) / 2, 0.5 * kRf);
+    EXPECT_NEAR(f.fragments[0].centroid.x(), 0, 0.1 * kRf);
+    EXPECT_NEAR(f.fragments[0].bbox.max.z(), z - t, kRf);
+    EXPECT_NEAR(f.fragments[1].bbox.min.z(), z + t, kRf);
+    EXPECT_NEAR(f.fragments[1].bbox.max.x(), 0.5, kRf);
+    // Each fragment's grid is a proper level set of its part alone.
+    EXPECT_LT(sample(f.fragments[1].grid, Vec3(0, 0, 0.3)), 0);
+    EXPECT_GT(sample(f.fragments[1].grid, Vec3(0, 0, -0.3)), 0);
+}
+
+TEST(Fragments, WithoutTilesTheInteriorCrackIsLost) {
+    // r_f = 0.01 m: the crack's leaves (radius 0.1 m) are separated from the surface's leaves by
+    // interior tiles, so only the tile-aware search can connect them.
+    const double r_f = 0.01;
+    const LevelSet obj = level_set_from_mesh(testmesh::box(Vec3::Constant(-0.5), Vec3::Constant(0.5)), r_f);
+    const LevelSet broken = broken_object(obj, {r_f, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0.1, r_f)}});
+    const Fragments tiles = find_fragments(broken, SegmentOptions{-1, true});
+    const Fragments plain = find_fragments(broken, SegmentOptions{-1, false});
+    EXPECT_EQ(tiles.fragments.size(), 1u);
+    // The plain voxel search cannot cross the interior tiles: the shell and the crack's
+    // surroundings come out as separate components (ch. 6.3).
+    EXPECT_GE(plain.fragments.size(), 2u);
+}
+
+TEST(Fragments, ResultIndependentOfThreadCount) {
+    auto run = [](int threads) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+        return find_fragments(broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3(0, 0.1, 0), Vec3(0.2, 1, 0.1), 1, kRf)}}));
+    };
+    const Fragments a = run(1), b = run(2);
+    ASSERT_EQ(a.fragments.size(), b.fragments.size());
+    for (std::size_t i = 0; i < a.fragments.size(); ++i) {
+        EXPECT_EQ(a.fragments[i].volume, b.fragments[i].volume);
+        EXPECT_EQ(a.fragments[i].active_voxels, b.fragments[i].active_voxels);
+    }
+}
+
+TEST(Fragments, ThresholdOutOfRangeIsRejectedWithTheReason) {
+    const LevelSet broken = broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 1, kRf)}});
+    try {
+        find_fragments(broken, SegmentOptions{1.5 * kRf, true});
+        FAIL() << "s = 1.5 r_f accepted";
+    } catch (const std::invalid_argument& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("[0, r_f]"), std::string::npos) << m;
+        EXPECT_NE(m.find("0.02"), std::string::npos) << m;
+    }
+    EXPECT_EQ(over_segmentation_ring(0, kRf), 1);
+    EXPECT_EQ(over_segmentation_ring(kRf, kRf), 2);
+    EXPECT_EQ(over_segmentation_ring(0.4 * kRf, kRf), 1);
+}
+
+TEST(Fragments, EmptyOrOutsideCracksAreRejected) {
+    CrackRecorder rec(kRf);
+    rec.add_crack();
+    try {
+        broken_object(cube(), rec.release());
+        FAIL() << "empty crack accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("crack 0 is empty"), std::string::npos) << e.what();
+    }
+    try {
+        broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3(3, 0, 0), Vec3::UnitZ(), 0.2, kRf)}});
+        FAIL() << "crack outside accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("outside the object"), std::string::npos) << e.what();
+    }
+    try {
+        broken_object(cube(), {0.01, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0.2, 0.01)}});
+        FAIL() << "voxel size mismatch accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("same r_f"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Fragments, ListingsHoldOneRowPerFragment) {
+    const Fragments f = find_fragments(broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitX(), 1, kRf)}}));
+    const auto dir = std::filesystem::temp_directory_path() / "cf_fragments_listing";
+    std::filesystem::remove_all(dir);
+    write_fragments_csv(dir / "fragments.csv", f);
+    write_fragments_json(dir / "fragments.json", f);
+    const std::string csv = slurp(dir / "fragments.csv"), json = slurp(dir / "fragments.json");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);  // header + 2 rows
+    EXPECT_EQ(csv.rfind("index,volume_m3", 0), 0u);
+    EXPECT_NE(json.find("\"index\": 1"), std::string::npos);
+    EXPECT_NE(json.find("\"tile_aware\": true"), std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cf
