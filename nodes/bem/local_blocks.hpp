@@ -21,4 +21,18 @@ Mat3 double_layer_block(double ik, const Mat3& P, const Mat3& M_beta);
 Mat3 hypersingular_block(const ElementGeometry& a, int alpha, const ElementGeometry& b, int beta, double I1, const Mat3& P,
                          const ElasticConstants& c);
 
+// All blocks of one element pair at once, as the assembly needs them. Same formulas as above,
+// rewritten with M_beta = [c_beta]_x (cross-product matrix of the curl c_beta = n x grad lambda_beta):
+//   M_b^T M_a = (c_a.c_b) I - c_a c_b^T,   -M_a^T P M_b = [c_a]_x P [c_b]_x,
+// and, because the curls of the three hats sum to zero, blocks of vertex 2 are minus the sum of
+// those of vertices 0 and 1 (every block is linear in each curl).
+struct PairBlocks {
+    Mat3 U;                                // single layer (if requested)
+    std::array<Mat3, 3> Kb;                // K[a, (b, beta)]
+    std::array<Mat3, 3> Ka;                // K[b, (a, alpha)] (the pair seen from b)
+    std::array<std::array<Mat3, 3>, 3> H;  // D[(a, alpha), (b, beta)], H[alpha][beta]
+};
+void pair_blocks(const ElementGeometry& a, const ElementGeometry& b, const PairIntegrals& p, const ElasticConstants& c,
+                 bool single_layer, PairBlocks& out);
+
 }  // namespace cf::bem

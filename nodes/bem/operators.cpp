@@ -68,6 +68,44 @@ void add_block(Mat& m, Eigen::Index r, Eigen::Index c, const Mat3& b) {
     m.template block<3, 3>(r, c) += b;
 }
 
+// Square tiles for the transposing passes below: 48 rows (16 elements or nodes) keep a source and a
+// destination tile in L1. Tiles are fixed by the matrix size, not the thread count, and each
+// destination entry is written by one task, so the result is deterministic.
+constexpr Eigen::Index tile = 48;
+
+// dst += src^T (dst rows x cols, src cols x rows), tiled and in parallel over column tiles.
+void add_transpose(Matrix& dst, const Matrix& src) {
+    const Eigen::Index rows = dst.rows(), cols = dst.cols();
+    const Eigen::Index nct = (cols + tile - 1) / tile;
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nct, 1), [&](const tbb::blocked_range<Eigen::Index>& r) {
+        for (Eigen::Index jt = r.begin(); jt != r.end(); ++jt) {
+            const Eigen::Index j0 = jt * tile, nj = std::min(tile, cols - j0);
+            for (Eigen::Index i0 = 0; i0 < rows; i0 += tile) {
+                const Eigen::Index ni = std::min(tile, rows - i0);
+                dst.block(i0, j0, ni, nj) += src.block(j0, i0, nj, ni).transpose();
+            }
+        }
+    });
+}
+
+// Completes a matrix of which only the 3x3 blocks (a, b) with a <= b were written: block (b, a) =
+// block (a, b)^T. Only whole 3x3 blocks are mirrored, so tiles are multiples of 3.
+void mirror_upper_blocks(Matrix& m) {
+    const Eigen::Index n = m.rows(), nt = (n + tile - 1) / tile;
+    static_assert(tile % 3 == 0, "tiles must hold whole 3x3 blocks");
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nt, 1), [&](const tbb::blocked_range<Eigen::Index>& r) {
+        for (Eigen::Index jt = r.begin(); jt != r.end(); ++jt) {
+            const Eigen::Index j0 = jt * tile, nj = std::min(tile, n - j0);
+            for (Eigen::Index i0 = j0 + tile; i0 < n; i0 += tile) {
+                const Eigen::Index ni = std::min(tile, n - i0);
+                m.block(i0, j0, ni, nj) = m.block(j0, i0, nj, ni).transpose();
+            }
+            for (Eigen::Index b = j0; b < j0 + nj; b += 3)
+                for (Eigen::Index a = b + 3; a < j0 + nj; a += 3) m.block<3, 3>(a, b) = m.block<3, 3>(b, a).transpose();
+        }
+    });
+}
+
 }  // namespace
 
 std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const SurfaceMesh& mesh, const Material& material,
@@ -86,35 +124,35 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
     const Eigen::Index M = static_cast<Eigen::Index>(g.size()), N = static_cast<Eigen::Index>(mesh.num_vertices());
     const PairQuadrature quad(options.quadrature);
     const ElasticConstants ec = out->elastic;
-    if (options.single_layer) out->V = Matrix::Zero(3 * M, 3 * M);
-    Matrix KU = Matrix::Zero(3 * M, 3 * N), KL = Matrix::Zero(3 * M, 3 * N), H = Matrix::Zero(3 * N, 3 * N);
+    // Every 3x3 block (a, b), a <= b, of V is assigned once and the rest mirrored: no zeroing needed.
+    if (options.single_layer) out->V.resize(3 * M, 3 * M);
+    // K = KU + KLT^T and D = H + H^T. Each element task b writes only columns it owns, which keeps its
+    // writes in a few columns (cache friendly): columns nodes(b) of KU and H, columns 3b..3b+2 of KLT.
+    Matrix& KU = out->K;
+    KU.setZero(3 * M, 3 * N);
+    Matrix KLT = Matrix::Zero(3 * N, 3 * M), H = Matrix::Zero(3 * N, 3 * N);
     Matrix& V = out->V;
-    // Task b owns: columns nodes(b) of KU and H, row b of KL; V entries of pairs (a, b) are unique.
     for_each_colour(colour_elements(g, 0, g.size()), [&](int b) {
         const ElementGeometry& gb = g[b];
+        PairBlocks blk;
         for (int a = 0; a <= b; ++a) {
             const ElementGeometry& ga = g[a];
             const PairIntegrals p = pair_integrals(ga, gb, true, quad);
-            const Mat3 P = guenter_kernel(p, ec);
-            if (options.single_layer) {
-                const Mat3 U = single_layer_block(p, ec);
-                V.block<3, 3>(3 * a, 3 * b) = U;
-                if (a != b) V.block<3, 3>(3 * b, 3 * a) = U;
-            }
-            for (int be = 0; be < 3; ++be) add_block(KU, 3 * a, 3 * gb.nodes[be], double_layer_block(p.IKb[be], P, gb.M[be]));
+            pair_blocks(ga, gb, p, ec, options.single_layer, blk);
+            if (options.single_layer) V.block<3, 3>(3 * a, 3 * b) = blk.U;
+            for (int be = 0; be < 3; ++be) add_block(KU, 3 * a, 3 * gb.nodes[be], blk.Kb[be]);
             if (a != b)
-                for (int al = 0; al < 3; ++al)
-                    add_block(KL, 3 * b, 3 * ga.nodes[al], double_layer_block(p.IKa[al], P, ga.M[al]));
+                for (int al = 0; al < 3; ++al) add_block(KLT, 3 * ga.nodes[al], 3 * b, blk.Ka[al].transpose());
             const double half = (a == b) ? 0.5 : 1.0;
             for (int al = 0; al < 3; ++al)
-                for (int be = 0; be < 3; ++be)
-                    add_block(H, 3 * ga.nodes[al], 3 * gb.nodes[be], half * hypersingular_block(ga, al, gb, be, p.I1, P, ec));
+                for (int be = 0; be < 3; ++be) add_block(H, 3 * ga.nodes[al], 3 * gb.nodes[be], half * blk.H[al][be]);
         }
     });
-    out->K = KU + KL;
-    KU.resize(0, 0);
-    KL.resize(0, 0);
-    out->D = H + H.transpose();
+    if (options.single_layer) mirror_upper_blocks(V);
+    add_transpose(KU, KLT);
+    KLT.resize(0, 0);
+    out->D = H;
+    add_transpose(out->D, H);
     out->pairs_computed = static_cast<std::int64_t>(M) * (M + 1) / 2;
     return out;
 }
@@ -169,24 +207,23 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
     // Task b (a new crack element) owns the columns nodes(b) of W, X and HY.
     for_each_colour(colour_elements(gc, old_tris, gc.size()), [&](int b) {
         const ElementGeometry& gb = gc[b];
+        PairBlocks blk;
         for (Eigen::Index a = 0; a < Ms; ++a) {
             const ElementGeometry& ga = gs[a];
             const PairIntegrals p = pair_integrals(ga, gb, false, quad);
-            const Mat3 P = guenter_kernel(p, ec);
+            pair_blocks(ga, gb, p, ec, false, blk);
             for (int be = 0; be < 3; ++be) {
-                add_block(W, 3 * a, 3 * gb.nodes[be], double_layer_block(p.IKb[be], P, gb.M[be]));
-                for (int al = 0; al < 3; ++al)
-                    add_block(X, 3 * ga.nodes[al], 3 * gb.nodes[be], hypersingular_block(ga, al, gb, be, p.I1, P, ec));
+                add_block(W, 3 * a, 3 * gb.nodes[be], blk.Kb[be]);
+                for (int al = 0; al < 3; ++al) add_block(X, 3 * ga.nodes[al], 3 * gb.nodes[be], blk.H[al][be]);
             }
         }
         for (int a = 0; a <= b; ++a) {
             const ElementGeometry& ga = gc[a];
             const PairIntegrals p = pair_integrals(ga, gb, true, quad);
-            const Mat3 P = guenter_kernel(p, ec);
+            pair_blocks(ga, gb, p, ec, false, blk);
             const double half = (a == b) ? 0.5 : 1.0;
             for (int al = 0; al < 3; ++al)
-                for (int be = 0; be < 3; ++be)
-                    add_block(HY, 3 * ga.nodes[al], 3 * gb.nodes[be], half * hypersingular_block(ga, al, gb, be, p.I1, P, ec));
+                for (int be = 0; be < 3; ++be) add_block(HY, 3 * ga.nodes[al], 3 * gb.nodes[be], half * blk.H[al][be]);
         }
     });
     std::int64_t added = 0;

@@ -2,15 +2,47 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace cf::bem {
 
-PairQuadrature::PairQuadrature(const QuadratureSettings& s)
-    : settings_(s),
-      id_(sauter_schwab_rule(PairKind::identical, s.singular_order)),
-      edge_(sauter_schwab_rule(PairKind::common_edge, s.singular_order)),
-      vert_(sauter_schwab_rule(PairKind::common_vertex, s.singular_order)) {
-    if (s.fixed_regular > 0) fixed_ = collapsed_gauss_triangle_rule(s.fixed_regular);
+namespace {
+
+// Pads a pair rule to a multiple of pair_rule_padding points with zero-weight copies of its last
+// point (a copy, not zeros, so that the padded lanes never divide by r = 0).
+PairRule padded(PairRule r) {
+    while (r.size() % pair_rule_padding) {
+        r.sx.push_back(r.sx.back());
+        r.tx.push_back(r.tx.back());
+        r.sy.push_back(r.sy.back());
+        r.ty.push_back(r.ty.back());
+        r.w.push_back(0.0);
+    }
+    return r;
+}
+
+}  // namespace
+
+PairRule tensor_pair_rule(const TriangleRule& t) {
+    PairRule r;
+    const std::size_t m = t.size();
+    for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t j = 0; j < m; ++j) {
+            r.sx.push_back(t.s[i]);
+            r.tx.push_back(t.t[i]);
+            r.sy.push_back(t.s[j]);
+            r.ty.push_back(t.t[j]);
+            r.w.push_back(t.w[i] * t.w[j]);
+        }
+    return padded(std::move(r));
+}
+
+PairQuadrature::PairQuadrature(const QuadratureSettings& s) : settings_(s) {
+    id_ = padded(sauter_schwab_rule(PairKind::identical, s.singular_order));
+    edge_ = padded(sauter_schwab_rule(PairKind::common_edge, s.singular_order));
+    vert_ = padded(sauter_schwab_rule(PairKind::common_vertex, s.singular_order));
+    if (s.fixed_regular > 0) fixed_ = tensor_pair_rule(collapsed_gauss_triangle_rule(s.fixed_regular));
+    for (int z = 0; z < num_regular_zones; ++z) zones_[z] = tensor_pair_rule(regular_zone_rule(z));
 }
 
 double separation_ratio(const ElementGeometry& a, const ElementGeometry& b) {
@@ -19,52 +51,88 @@ double separation_ratio(const ElementGeometry& a, const ElementGeometry& b) {
 
 namespace {
 
-// Accumulates the integrands over points given in reordered local coordinates of a and b:
-// x = Pa0 + sx (Pa1 - Pa0) + tx (Pa2 - Pa0), perm_a[k] = original local index of reordered vertex k.
-struct Accumulator {
-    double I1 = 0, R[6] = {0, 0, 0, 0, 0, 0}, Kb[3] = {0, 0, 0}, Ka[3] = {0, 0, 0};
+// Sums over the points of a pair rule, with the points given in reordered local coordinates:
+//   d = x - y = c + sx A1 + tx A2 - sy B1 - ty B2,  c = A0 - B0,
+// g = {c(3), A1(3), A2(3), B1(3), B2(3), n_a(3), n_b(3)}. out = {I1, Rxx, Ryy, Rzz, Rxy, Rxz, Ryz,
+// sum fb, sum fb sy, sum fb ty, sum fa, sum fa sx, sum fa tx} with fb = w d.n_b / r^3 and
+// fa = -w d.n_a / r^3 (unscaled by the areas). n is a multiple of pair_rule_padding.
+// Eight lanes of GCC vector extensions: the compiler lowers them to SSE2, AVX2 or AVX-512 and the
+// function is cloned per ISA level (chosen at load time), so no -march flag is needed. Each lane
+// accumulates its own points and the lanes are summed in a fixed order at the end, so the result
+// does not depend on the thread count.
+typedef double Lanes __attribute__((vector_size(8 * sizeof(double))));
+static_assert(pair_rule_padding == 8, "pair_rule_padding must equal the kernel's lane count");
 
-    template <class PointsX, class PointsY>
-    void run(const ElementGeometry& a, const int* perm_a, const ElementGeometry& b, const int* perm_b, std::size_t n,
-             const double* w, PointsX px, PointsY py) {
-        const Vec3 A0 = a.p[perm_a[0]], A1 = a.p[perm_a[1]] - A0, A2 = a.p[perm_a[2]] - A0;
-        const Vec3 B0 = b.p[perm_b[0]], B1 = b.p[perm_b[1]] - B0, B2 = b.p[perm_b[2]] - B0;
-        const Vec3 na = a.normal, nb = b.normal;
-        double i1 = 0, rxx = 0, ryy = 0, rzz = 0, rxy = 0, rxz = 0, ryz = 0;
-        double kb0 = 0, kb1 = 0, kb2 = 0, ka0 = 0, ka1 = 0, ka2 = 0;
-        for (std::size_t q = 0; q < n; ++q) {
-            double sx, tx, sy, ty;
-            px(q, sx, tx);
-            py(q, sy, ty);
-            const double dx = A0.x() + sx * A1.x() + tx * A2.x() - (B0.x() + sy * B1.x() + ty * B2.x());
-            const double dy = A0.y() + sx * A1.y() + tx * A2.y() - (B0.y() + sy * B1.y() + ty * B2.y());
-            const double dz = A0.z() + sx * A1.z() + tx * A2.z() - (B0.z() + sy * B1.z() + ty * B2.z());
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            const double ri = 1.0 / std::sqrt(r2);
-            const double wi = w[q] * ri;
-            const double w3 = wi * ri * ri;
-            i1 += wi;
-            rxx += w3 * dx * dx;
-            ryy += w3 * dy * dy;
-            rzz += w3 * dz * dz;
-            rxy += w3 * dx * dy;
-            rxz += w3 * dx * dz;
-            ryz += w3 * dy * dz;
-            const double fb = w3 * (dx * nb.x() + dy * nb.y() + dz * nb.z());
-            const double fa = -w3 * (dx * na.x() + dy * na.y() + dz * na.z());
-            kb0 += fb * (1 - sy - ty);
-            kb1 += fb * sy;
-            kb2 += fb * ty;
-            ka0 += fa * (1 - sx - tx);
-            ka1 += fa * sx;
-            ka2 += fa * tx;
-        }
-        I1 = i1;
-        R[0] = rxx; R[1] = ryy; R[2] = rzz; R[3] = rxy; R[4] = rxz; R[5] = ryz;
-        Kb[perm_b[0]] = kb0; Kb[perm_b[1]] = kb1; Kb[perm_b[2]] = kb2;
-        Ka[perm_a[0]] = ka0; Ka[perm_a[1]] = ka1; Ka[perm_a[2]] = ka2;
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#endif
+void pair_kernel(const double* sx, const double* tx, const double* sy, const double* ty, const double* w, std::size_t n,
+                 const double* g, double* out) {
+    Lanes i1 = {}, rxx = {}, ryy = {}, rzz = {}, rxy = {}, rxz = {}, ryz = {};
+    Lanes kb = {}, kbs = {}, kbt = {}, ka = {}, kas = {}, kat = {};
+    for (std::size_t q = 0; q < n; q += 8) {
+        Lanes s1, t1, s2, t2, W;
+        std::memcpy(&s1, sx + q, sizeof s1);
+        std::memcpy(&t1, tx + q, sizeof t1);
+        std::memcpy(&s2, sy + q, sizeof s2);
+        std::memcpy(&t2, ty + q, sizeof t2);
+        std::memcpy(&W, w + q, sizeof W);
+        const Lanes dx = g[0] + s1 * g[3] + t1 * g[6] - s2 * g[9] - t2 * g[12];
+        const Lanes dy = g[1] + s1 * g[4] + t1 * g[7] - s2 * g[10] - t2 * g[13];
+        const Lanes dz = g[2] + s1 * g[5] + t1 * g[8] - s2 * g[11] - t2 * g[14];
+        const Lanes r2 = dx * dx + dy * dy + dz * dz;
+        Lanes r;
+        for (int l = 0; l < 8; ++l) r[l] = std::sqrt(r2[l]);  // vectorised (-fno-math-errno)
+        const Lanes ri = 1.0 / r;
+        const Lanes wi = W * ri;
+        const Lanes w3 = wi * ri * ri;
+        i1 += wi;
+        rxx += w3 * dx * dx;
+        ryy += w3 * dy * dy;
+        rzz += w3 * dz * dz;
+        rxy += w3 * dx * dy;
+        rxz += w3 * dx * dz;
+        ryz += w3 * dy * dz;
+        const Lanes fa = -w3 * (dx * g[15] + dy * g[16] + dz * g[17]);
+        const Lanes fb = w3 * (dx * g[18] + dy * g[19] + dz * g[20]);
+        kb += fb;
+        kbs += fb * s2;
+        kbt += fb * t2;
+        ka += fa;
+        kas += fa * s1;
+        kat += fa * t1;
     }
-};
+    const Lanes* acc[13] = {&i1, &rxx, &ryy, &rzz, &rxy, &rxz, &ryz, &kb, &kbs, &kbt, &ka, &kas, &kat};
+    for (int k = 0; k < 13; ++k) {
+        double s = 0;
+        for (int l = 0; l < 8; ++l) s += (*acc[k])[l];
+        out[k] = s;
+    }
+}
+
+PairIntegrals integrate_pair(const ElementGeometry& a, const int* perm_a, const ElementGeometry& b, const int* perm_b,
+                             const PairRule& r) {
+    const Vec3 A0 = a.p[perm_a[0]], B0 = b.p[perm_b[0]];
+    const Vec3 c = A0 - B0, A1 = a.p[perm_a[1]] - A0, A2 = a.p[perm_a[2]] - A0;
+    const Vec3 B1 = b.p[perm_b[1]] - B0, B2 = b.p[perm_b[2]] - B0;
+    const double g[21] = {c.x(),  c.y(),  c.z(),  A1.x(), A1.y(), A1.z(), A2.x(), A2.y(), A2.z(),  B1.x(),  B1.y(),
+                          B1.z(), B2.x(), B2.y(), B2.z(), a.normal.x(), a.normal.y(), a.normal.z(), b.normal.x(),
+                          b.normal.y(), b.normal.z()};
+    double s[13];
+    pair_kernel(r.sx.data(), r.tx.data(), r.sy.data(), r.ty.data(), r.w.data(), r.size(), g, s);
+    const double scale = 4 * a.area * b.area;
+    PairIntegrals out;
+    out.I1 = s[0] * scale;
+    for (int k = 0; k < 6; ++k) out.IR[k] = s[1 + k] * scale;
+    // lambda_0 = 1 - s - t, lambda_1 = s, lambda_2 = t on the reordered vertices.
+    out.IKb[perm_b[0]] = (s[7] - s[8] - s[9]) * scale;
+    out.IKb[perm_b[1]] = s[8] * scale;
+    out.IKb[perm_b[2]] = s[9] * scale;
+    out.IKa[perm_a[0]] = (s[10] - s[11] - s[12]) * scale;
+    out.IKa[perm_a[1]] = s[11] * scale;
+    out.IKa[perm_a[2]] = s[12] * scale;
+    return out;
+}
 
 }  // namespace
 
@@ -90,33 +158,13 @@ PairIntegrals pair_integrals(const ElementGeometry& a, const ElementGeometry& b,
             perm_b[0] = ib[0]; perm_b[1] = ib[0] == 0 ? 1 : 0; perm_b[2] = ib[0] == 2 ? 1 : 2;
         }
     }
-    Accumulator acc;
-    double scale = 4 * a.area * b.area;
-    if (kind != PairKind::separated) {
-        const PairRule& r = q.singular(kind);
-        acc.run(a, perm_a, b, perm_b, r.size(), r.w.data(),
-                [&](std::size_t k, double& s, double& t) { s = r.sx[k]; t = r.tx[k]; },
-                [&](std::size_t k, double& s, double& t) { s = r.sy[k]; t = r.ty[k]; });
-    } else {
-        const TriangleRule& r = q.regular(separation_ratio(a, b));
-        const std::size_t m = r.size();
-        // Tensor product: index k = i * m + j (i on a, j on b).
-        static thread_local std::vector<double> w;
-        w.resize(m * m);
-        for (std::size_t i = 0; i < m; ++i)
-            for (std::size_t j = 0; j < m; ++j) w[i * m + j] = r.w[i] * r.w[j];
-        acc.run(a, perm_a, b, perm_b, m * m, w.data(),
-                [&](std::size_t k, double& s, double& t) { s = r.s[k / m]; t = r.t[k / m]; },
-                [&](std::size_t k, double& s, double& t) { s = r.s[k % m]; t = r.t[k % m]; });
-    }
-    PairIntegrals out;
-    out.I1 = acc.I1 * scale;
-    for (int k = 0; k < 6; ++k) out.IR[k] = acc.R[k] * scale;
-    for (int k = 0; k < 3; ++k) {
-        out.IKb[k] = acc.Kb[k] * scale;
-        out.IKa[k] = acc.Ka[k] * scale;
-    }
-    return out;
+    const PairRule& r = kind != PairKind::separated ? q.singular(kind) : q.regular_pairs(separation_ratio(a, b));
+    return integrate_pair(a, perm_a, b, perm_b, r);
+}
+
+PairIntegrals separated_pair_integrals(const ElementGeometry& a, const ElementGeometry& b, const PairRule& r) {
+    const int perm[3] = {0, 1, 2};
+    return integrate_pair(a, perm, b, perm, r);
 }
 
 }  // namespace cf::bem

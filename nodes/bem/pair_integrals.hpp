@@ -4,9 +4,12 @@
 //   IKb[beta]  = int_a int_b (x-y).n_b / r^3 lambda_beta(y)   (Laplace double layer, trial b),
 //   IKa[alpha] = int_a int_b (y-x).n_a / r^3 lambda_alpha(x)  (the same with the roles swapped).
 // They depend on geometry only, not on the material. Touching pairs use Sauter-Schwab rules,
-// separated pairs a regular rule chosen by distance/size (quadrature.hpp).
+// separated pairs a regular rule chosen by distance/size (quadrature.hpp). All three families
+// are summed in one pass over the same points (pair_kernel.hpp).
 #include "nodes/bem/element_geometry.hpp"
 #include "nodes/bem/quadrature.hpp"
+
+#include <array>
 
 namespace cf::bem {
 
@@ -23,25 +26,35 @@ struct QuadratureSettings {
     int fixed_regular = 0;   // > 0: n x n collapsed Gauss for every separated pair (oracle comparisons)
 };
 
-// The pair rules for one setting, built once and shared.
+// The pair rules for one setting, built once and shared. Pair rules are stored flattened (tensor
+// products of the regular zones expanded) and padded with zero-weight copies of their last point
+// to a multiple of pair_rule_padding, which the kernel's vector loop needs.
+constexpr std::size_t pair_rule_padding = 8;
 class PairQuadrature {
 public:
     explicit PairQuadrature(const QuadratureSettings& s);
     const QuadratureSettings& settings() const { return settings_; }
     const PairRule& singular(PairKind k) const { return k == PairKind::identical ? id_ : k == PairKind::common_edge ? edge_ : vert_; }
-    const TriangleRule& regular(double rho) const {
-        return fixed_.size() ? fixed_ : regular_zone_rule(regular_zone(rho, settings_.farfield_boost));
+    // Flattened pair rule for a separated pair at separation ratio rho.
+    const PairRule& regular_pairs(double rho) const {
+        return fixed_.size() ? fixed_ : zones_[regular_zone(rho, settings_.farfield_boost)];
     }
 
 private:
     QuadratureSettings settings_;
-    TriangleRule fixed_;
+    PairRule fixed_;
     PairRule id_, edge_, vert_;
+    std::array<PairRule, num_regular_zones> zones_;
 };
 
 // Integrals of the pair (a, b). `same_mesh` says whether a and b index the same vertex array
 // (only then can they touch). Pairs with a shared vertex id use Sauter-Schwab.
 PairIntegrals pair_integrals(const ElementGeometry& a, const ElementGeometry& b, bool same_mesh, const PairQuadrature& q);
+
+// Tensor product of a triangle rule with itself as a padded pair rule (index i * m + j, i on a).
+PairRule tensor_pair_rule(const TriangleRule& t);
+// Integrals of a pair treated as separated, with a given pair rule (accuracy studies and tests).
+PairIntegrals separated_pair_integrals(const ElementGeometry& a, const ElementGeometry& b, const PairRule& r);
 
 // rho = |c_a - c_b| / max(diameters), the far-field zoning ratio.
 double separation_ratio(const ElementGeometry& a, const ElementGeometry& b);

@@ -110,12 +110,11 @@ PairRule sauter_schwab_rule(PairKind kind, int n) {
 
 int regular_zone(double rho, int boost) {
     int z;
-    if (rho >= 12) z = 0;
-    else if (rho >= 6) z = 1;
-    else if (rho >= 3) z = 2;
+    if (rho >= 16) z = 0;
+    else if (rho >= 3) z = 1;
+    else if (rho >= 2) z = 2;
     else if (rho >= 1.5) z = 3;
-    else if (rho >= 0.75) z = 4;
-    else z = 5;
+    else z = 4;
     z += boost;
     return z < num_regular_zones ? z : num_regular_zones - 1;
 }
@@ -125,7 +124,8 @@ const TriangleRule& regular_zone_rule(int zone) {
         std::array<TriangleRule, num_regular_zones> r;
         r[0] = symmetric_triangle_rule_3();
         r[1] = symmetric_triangle_rule_6();
-        for (int k = 2; k < num_regular_zones; ++k) r[k] = collapsed_gauss_triangle_rule(k + 1);
+        const int n[num_regular_zones] = {0, 0, 4, 5, 6, 7, 8, 10};
+        for (int k = 2; k < num_regular_zones; ++k) r[k] = collapsed_gauss_triangle_rule(n[k]);
         return r;
     }();
     if (zone < 0 || zone >= num_regular_zones) throw std::out_of_range("regular_zone_rule: zone " + std::to_string(zone));

@@ -22,19 +22,16 @@ Matrix solve_matrix(const SurfaceSystem& s, const Matrix& f) {
     if (s.pure_neumann) return s.r_factor.solve(f);
     const Eigen::Index nd = 3 * static_cast<Eigen::Index>(s.d_elements.size());
     const Eigen::Index nn = 3 * static_cast<Eigen::Index>(s.n_nodes.size());
+    if (nd == 0) return s.s_factor.solve(f);
+    if (nn == 0) return s.v_factor.solve(f);
+    // With V_DD = L L^T and W = L^-1 K_DN: z = L^-1 f_D, u = S^-1 (f_N - W^T z), s_D = L^-T (z + W u).
+    Matrix z = f.topRows(nd);
+    s.v_factor.solve_lower_in_place(z);
     Matrix out(nd + nn, f.cols());
-    if (nd == 0) {
-        out = s.s_factor.solve(f);
-        return out;
-    }
-    const Matrix y1 = s.v_factor.solve(f.topRows(nd));
-    if (nn == 0) return y1;
-    const auto idxD = dofs3(s.d_elements);
-    const auto idxN = dofs3(s.n_nodes);
-    const Matrix Kdn = s.ops->K(idxD, idxN);
-    const Matrix u = s.s_factor.solve(f.bottomRows(nn) - Kdn.transpose() * y1);
-    out.topRows(nd) = y1 + s.v_inv_k * u;
-    out.bottomRows(nn) = u;
+    out.bottomRows(nn) = s.s_factor.solve(f.bottomRows(nn) - s.l_inv_k.transpose() * z);
+    z.noalias() += s.l_inv_k * out.bottomRows(nn);
+    s.v_factor.solve_upper_in_place(z);
+    out.topRows(nd) = z;
     return out;
 }
 
@@ -75,10 +72,10 @@ std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const 
         }
         const double g = o.D.trace() / (3.0 * N);
         sys->gamma = g * g;
-        Matrix DR = o.D.transpose() * o.D;
-        DR.noalias() += sys->gamma * sys->T.transpose() * sys->T;
-        sys->r_factor.compute(DR);
-        require(sys->r_factor.info() == Eigen::Success,
+        Matrix DR = sys->gamma * sys->T.transpose() * sys->T;
+        add_lower_gram(DR, o.D);  // lower triangle of D^T D + gamma T^T T
+        sys->r_factor.compute(std::move(DR));
+        require(sys->r_factor.ok(),
                 "regularised Neumann matrix D_R (eq. 7.4) is not positive definite; is the surface closed and consistently oriented?");
         return sys;
     }
@@ -91,15 +88,19 @@ std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const 
         if (!bc.node_fixed[v]) sys->n_nodes.push_back(static_cast<int>(v));
     const auto idxD = dofs3(sys->d_elements);
     const auto idxN = dofs3(sys->n_nodes);
-    sys->v_factor.compute(o.V(idxD, idxD));
-    require(sys->v_factor.info() == Eigen::Success, "single-layer block V_DD is not positive definite");
+    if (!idxD.empty()) {
+        sys->v_factor.compute(o.V(idxD, idxD));
+        require(sys->v_factor.ok(), "single-layer block V_DD is not positive definite");
+    }
     if (!idxN.empty()) {
-        const Matrix Kdn = o.K(idxD, idxN);
-        sys->v_inv_k = sys->v_factor.solve(Kdn);
         Matrix S = o.D(idxN, idxN);
-        S.noalias() += Kdn.transpose() * sys->v_inv_k;
-        sys->s_factor.compute(S);
-        require(sys->s_factor.info() == Eigen::Success, "SGBEM complement D_NN + K^T V^-1 K is not positive definite");
+        if (!idxD.empty()) {
+            sys->l_inv_k = o.K(idxD, idxN);
+            sys->v_factor.solve_lower_in_place(sys->l_inv_k);
+            add_lower_gram(S, sys->l_inv_k);  // lower triangle of D_NN + W^T W
+        }
+        sys->s_factor.compute(std::move(S));
+        require(sys->s_factor.ok(), "SGBEM complement D_NN + K^T V^-1 K is not positive definite");
     }
     return sys;
 }

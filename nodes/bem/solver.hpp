@@ -1,13 +1,15 @@
 #pragma once
 // SGBEM solves (thesis ch. 2.3, 2.5, 4.2, 7.1).
 // Mixed problems: A = [V_DD, -K_DN; K_DN^T, D_NN] (eq. 2.25), factorised once by block
-// Cholesky (V_DD = L L^T, then the SPD complement D_NN + K_DN^T V_DD^-1 K_DN).
+// Cholesky (V_DD = L L^T, then the SPD complement D_NN + W^T W with W = L^-1 K_DN, formed as a
+// symmetric rank update). Dense factorisations are DenseCholesky (parallel, deterministic).
 // Pure Neumann: A = D_R = D^T D + gamma T^T T with the area-scaled regulariser of eq. (7.2)-(7.3)
 // and gamma = (tr(D)/(3n))^2, right-hand side D^T f_N (eq. 7.4); loads must be balanced.
 // Cracks (eq. 2.38, 4.2, 4.3): unknown w = -[u] at interior crack nodes, Schur complement
 // S = Y - C A^-1 B factorised by Cholesky; when crack unknowns are appended the Cholesky factor
 // is extended by the new rows instead of recomputed. s = A^-1 (f - B w).
 #include "nodes/bem/boundary_conditions.hpp"
+#include "nodes/bem/dense_cholesky.hpp"
 #include "nodes/bem/operators.hpp"
 
 #include <Eigen/Cholesky>
@@ -24,13 +26,13 @@ struct SurfaceSystem {
     std::vector<int> d_elements;     // Dirichlet elements (traction unknowns)
     std::vector<int> n_nodes;        // nodes not in closure(Gamma_D) (displacement unknowns)
     // mixed
-    Eigen::LLT<Matrix> v_factor;     // V_DD
-    Matrix v_inv_k;                  // V_DD^-1 K_DN
-    Eigen::LLT<Matrix> s_factor;     // D_NN + K_DN^T V_DD^-1 K_DN
+    DenseCholesky v_factor;          // V_DD = L L^T
+    Matrix l_inv_k;                  // W = L^-1 K_DN
+    DenseCholesky s_factor;          // D_NN + K_DN^T V_DD^-1 K_DN = D_NN + W^T W
     // pure Neumann
     Matrix T;                        // 6 x 3N regulariser rows (eq. 7.2, 7.3)
     double gamma = 0;
-    Eigen::LLT<Matrix> r_factor;     // D_R
+    DenseCholesky r_factor;          // D_R
     Eigen::Index size() const;       // number of unknowns in s
     Vector solve(const Vector& f) const;  // A^-1 f
 };

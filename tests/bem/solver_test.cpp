@@ -3,6 +3,7 @@
 #include "nodes/bem/test_meshes.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -151,4 +152,53 @@ TEST(BemSolve, UnbalancedNeumannLoadIsRefusedWithResultants) {
     // Dirichlet regions need V.
     const auto bc2 = resolve(parse_boundary_conditions("z_min: displacement 0 0 0; *: traction 0 0 0"), o->mesh);
     EXPECT_THROW(solve_sgbem(o, nullptr, bc2, {}, nullptr), std::invalid_argument);
+}
+
+TEST(BemSolve, DenseCholeskyMatchesEigenAndIsThreadCountIndependent) {
+    // 300 unknowns: three 128-wide panels, so the parallel panel and trailing updates both run.
+    const Eigen::Index n = 300;
+    Matrix B = Matrix::Random(n, n);
+    const Matrix A = B * B.transpose() + n * Matrix::Identity(n, n);
+    const Matrix rhs = Matrix::Random(n, 7);
+    Matrix x1, x2;
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+        DenseCholesky c(A);
+        ASSERT_TRUE(c.ok());
+        x1 = c.solve(rhs);
+    }
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+        DenseCholesky c(A);
+        x2 = c.solve(rhs);
+    }
+    EXPECT_TRUE(x1 == x2);
+    const Matrix ref = A.llt().solve(rhs);
+    EXPECT_LT((x1 - ref).norm(), 1e-12 * ref.norm());
+    // Not positive definite: reported, not thrown.
+    Matrix N = A;
+    N(200, 200) = -1;
+    EXPECT_FALSE(DenseCholesky(N).ok());
+    // S += W^T W on the lower triangle.
+    const Matrix W = Matrix::Random(40, n);
+    Matrix S = A;
+    add_lower_gram(S, W);
+    const Matrix full = A + W.transpose() * W;
+    EXPECT_LT((Matrix(S.triangularView<Eigen::Lower>()) - Matrix(full.triangularView<Eigen::Lower>())).norm(), 1e-13 * full.norm());
+}
+
+TEST(BemSolve, MixedSolveBitIdenticalForOneAndTwoThreads) {
+    const SurfaceMesh m = bem_cube_mesh(4, 1.0);  // 219 Neumann unknowns: two factorisation panels
+    const auto bc = resolve(parse_boundary_conditions("z_min: displacement 0 0 0; z_max: traction 0 0 1; *: traction 0 0 0"), m);
+    std::shared_ptr<const BemSolution> a, b;
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+        a = solve_sgbem(assemble_surface_operators(m, unit_material(), AssemblyOptions{}), nullptr, bc, {}, nullptr);
+    }
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+        b = solve_sgbem(assemble_surface_operators(m, unit_material(), AssemblyOptions{}), nullptr, bc, {}, nullptr);
+    }
+    EXPECT_TRUE(a->displacement == b->displacement);
+    EXPECT_TRUE(a->traction == b->traction);
 }
