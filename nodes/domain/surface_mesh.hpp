@@ -5,6 +5,7 @@
 #include "graph/value.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross(): every user of Vec3 needs it
 #include <array>
 #include <string>
 #include <vector>
