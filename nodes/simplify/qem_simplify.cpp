@@ -5,6 +5,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
@@ -36,7 +37,13 @@ SurfaceMesh simplify_to_count(const SurfaceMesh& in, std::size_t target_triangle
         // Closed triangle mesh: E = 3 F / 2.
         SMS::Count_stop_predicate<Mesh> stop(3 * target_triangles / 2);
         SMS::GarlandHeckbert_plane_policies<Mesh, Kernel> gh(mesh);
-        SMS::edge_collapse(mesh, stop, CGAL::parameters::get_cost(gh.get_cost()).get_placement(gh.get_placement()));
+        // On flat faces every plane quadric vanishes, so a collapse that folds a triangle over
+        // its neighbour or flattens it to zero area costs nothing; the filter rejects any
+        // collapse that turns a surviving triangle's normal by 90 degrees or more (or zeroes it).
+        SMS::edge_collapse(mesh, stop,
+                           CGAL::parameters::get_cost(gh.get_cost())
+                               .get_placement(gh.get_placement())
+                               .filter(SMS::Bounded_normal_change_filter<>()));
         mesh.collect_garbage();
     }
     SurfaceMesh out;

@@ -1,11 +1,13 @@
 #include "nodes/simplify/remesh.hpp"
 
 #include "nodes/domain/mesh_topology.hpp"
+#include "nodes/simplify/degenerate_cleanup.hpp"
 #include "nodes/simplify/mesh_repair.hpp"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
@@ -33,10 +35,19 @@ SurfaceMesh without_unused_vertices(const SurfaceMesh& m) {
 }
 
 void offset_along_normals(SurfaceMesh& mesh, double distance) {
+    // Angle-weighted (pseudo-)normals: they do not depend on how a flat face or a crease is
+    // triangulated, so the collinear vertices QEM leaves along a box edge all move alike and
+    // stay collinear. Area weighting moved them by different amounts and folded the thin
+    // triangles there into slivers and self-intersections.
     std::vector<Vec3> normal(mesh.vertices.size(), Vec3::Zero());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const Vec3 n = triangle_normal_unnormalised(mesh, t);  // |n| = 2 area: area weighting
-        for (int v : mesh.triangles[t]) normal[v] += n;
+        const Vec3 n = triangle_normal(mesh, t);  // unit; zero for a sliver
+        const Tri& f = mesh.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 e1 = mesh.vertices[f[(k + 1) % 3]] - mesh.vertices[f[k]];
+            const Vec3 e2 = mesh.vertices[f[(k + 2) % 3]] - mesh.vertices[f[k]];
+            normal[f[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * n;
+        }
     }
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
         const double len = normal[v].norm();
@@ -139,8 +150,19 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt) {
                                     " triangles); lower the target or the voxel size");
     SurfaceMesh mesh = without_unused_vertices(simplify_to_count(dense, opt.target_triangles));
     offset_along_normals(mesh, opt.offset_voxels * object.voxel_size);
+    // QEM on flat faces leaves zero-area caps and needles (all plane quadrics vanish there);
+    // hole filling in the repair can leave more: both are removed before the final check.
+    auto clean = [&] {
+        const DegenerateCleanup c = remove_degenerate_triangles(mesh);
+        res.sliver_flips += c.flips;
+        res.sliver_collapses += c.collapses;
+    };
+    clean();
     res.self_intersections_before = self_intersecting_pairs(mesh).size();
-    if (res.self_intersections_before > 0) res.repair_rounds = repair_self_intersections(mesh, opt.max_repair_rounds);
+    if (res.self_intersections_before > 0) {
+        res.repair_rounds = repair_self_intersections(mesh, opt.max_repair_rounds);
+        clean();
+    }
     res.self_intersections_after = self_intersecting_pairs(mesh).size();
     const MeshTopologyReport topo = check_topology(mesh);
     if (!topo.is_closed_manifold() || res.self_intersections_after > 0)

@@ -1,8 +1,8 @@
 #pragma once
 // Coarse BEM mesh from an object level set (thesis ch. 6.1, App. A items 13-14): dual
 // contouring (OpenVDB volumeToMesh) -> QEM simplification to a target triangle count ->
-// self-intersecting pairs found, their one-ring deleted and the holes filled -> vertices moved
-// outward by k voxels along the vertex normals. The result is checked: closed, manifold,
+// vertices moved outward by k voxels along the vertex normals -> zero-area slivers flipped or
+// collapsed -> self-intersecting pairs found, their one-ring deleted and the holes filled. The result is checked: closed, manifold,
 // consistently oriented, no self-intersections.
 #include "nodes/domain/surface_mesh.hpp"
 #include "nodes/levelset/level_set.hpp"
@@ -22,14 +22,16 @@ struct RemeshResult {
     std::size_t self_intersections_before = 0;  // after simplification and offset, before repair
     std::size_t self_intersections_after = 0;   // always 0 on success
     int repair_rounds = 0;
+    std::size_t sliver_flips = 0;      // zero-area caps removed by an edge flip
+    std::size_t sliver_collapses = 0;  // zero-area needles removed by an edge collapse
 };
 
 // Throws std::invalid_argument for a target below 4 triangles or a negative offset, and
 // std::runtime_error naming what failed if the guarantees cannot be met.
 RemeshResult remesh(const LevelSet& object, const RemeshOptions& options);
 
-// Moves every vertex by `distance` [m] along its area-weighted vertex normal (outward for an
-// outward-oriented mesh).
+// Moves every vertex by `distance` [m] along its angle-weighted vertex normal (outward for an
+// outward-oriented mesh; independent of how flat faces and creases are triangulated).
 void offset_along_normals(SurfaceMesh& mesh, double distance);
 
 // Deletes the one-ring of every self-intersecting triangle (widening the ring each round), also

@@ -50,6 +50,8 @@ graph::NodeType remesh_node() {
         c.count("vertices", double(mesh.num_vertices()));
         c.count("self_intersections_repaired", double(r.self_intersections_before));
         c.count("repair_rounds", r.repair_rounds);
+        c.count("sliver_flips", double(r.sliver_flips));
+        c.count("sliver_collapses", double(r.sliver_collapses));
         c.out("mesh", std::move(mesh));
     });
     return t;

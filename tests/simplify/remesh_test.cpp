@@ -4,6 +4,7 @@
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/segment/levelset_verification.hpp"
 #include "nodes/shape/icosphere.hpp"
+#include "nodes/simplify/degenerate_cleanup.hpp"
 #include "nodes/simplify/mesh_repair.hpp"
 #include "nodes/simplify/remesh.hpp"
 
@@ -40,6 +41,78 @@ TEST(VerificationCase, remesh_closed_manifold) {
     const VerificationResult r = verify_remesh_closed_manifold();
     EXPECT_TRUE(r.passed) << r.details;
     std::cout << "[case 12] " << r.details << "; count error " << r.error << " (bar " << r.tolerance << ")\n";
+}
+
+// Unit octahedron (|x| + |y| + |z| = 1, volume 4/3), outward oriented.
+SurfaceMesh octahedron() {
+    SurfaceMesh m;
+    m.vertices = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+    for (int sx : {0, 1})
+        for (int sy : {0, 1})
+            for (int sz : {0, 1}) {
+                Tri t{sx, 2 + sy, 4 + sz};
+                if ((sx + sy + sz) % 2 == 1) std::swap(t[1], t[2]);  // odd number of minus axes
+                m.triangles.push_back(t);
+            }
+    return m;
+}
+
+// Replaces face (a, b, d) of a closed mesh by (a, c, d), (c, b, d) and the zero-area triangle
+// (a, b, c), with c = a + s (b - a): still closed and manifold, with one sliver.
+SurfaceMesh with_sliver(double s) {
+    SurfaceMesh m = octahedron();
+    const Tri f = m.triangles[0];
+    const int a = f[0], b = f[1], d = f[2];
+    const int c = int(m.vertices.size());
+    m.vertices.push_back(m.vertices[a] + s * (m.vertices[b] - m.vertices[a]));
+    m.triangles[0] = Tri{a, c, d};
+    m.triangles.push_back(Tri{c, b, d});
+    m.triangles.push_back(Tri{a, b, c});
+    return m;
+}
+
+TEST(SliverRemoval, CapIsFlippedWithoutMovingTheSurface) {
+    SurfaceMesh m = with_sliver(0.4);
+    ASSERT_TRUE(signed_volume(m) > 0);
+    ASSERT_EQ(check_topology(m).degenerate_triangles, 1u);
+    const std::vector<Vec3> before = m.vertices;
+    const DegenerateCleanup c = remove_degenerate_triangles(m);
+    EXPECT_EQ(c.flips, 1u);
+    EXPECT_EQ(c.collapses, 0u);
+    EXPECT_EQ(c.left, 0u);
+    const MeshTopologyReport topo = check_topology(m);
+    EXPECT_TRUE(topo.is_closed_manifold()) << topo.describe();
+    EXPECT_EQ(topo.euler_characteristic, 2);
+    EXPECT_EQ(m.num_triangles(), 10u);  // a flip keeps the count
+    ASSERT_EQ(m.vertices.size(), before.size());
+    for (std::size_t v = 0; v < before.size(); ++v) EXPECT_EQ(m.vertices[v], before[v]);
+    EXPECT_NEAR(signed_volume(m), 4.0 / 3.0, 1e-12);
+    EXPECT_EQ(self_intersecting_pairs(m).size(), 0u);
+}
+
+TEST(SliverRemoval, NeedleIsCollapsed) {
+    // The apex sits 1e-9 of the edge from its end: a flip would leave another sliver, so the
+    // short edge is collapsed, removing two triangles and the extra vertex.
+    SurfaceMesh m = with_sliver(1e-9);
+    ASSERT_GE(check_topology(m).degenerate_triangles, 1u);
+    const DegenerateCleanup c = remove_degenerate_triangles(m);
+    EXPECT_EQ(c.flips, 0u);
+    EXPECT_EQ(c.collapses, 1u);
+    EXPECT_EQ(c.left, 0u);
+    const MeshTopologyReport topo = check_topology(m);
+    EXPECT_TRUE(topo.is_closed_manifold()) << topo.describe();
+    EXPECT_EQ(m.num_triangles(), 8u);
+    EXPECT_EQ(m.num_vertices(), 6u);
+    // Whichever point is kept, it lies within 1e-9 of the octahedron vertex.
+    EXPECT_NEAR(signed_volume(m), 4.0 / 3.0, 1e-8);
+}
+
+TEST(SliverRemoval, CleanMeshIsUntouched) {
+    SurfaceMesh m = octahedron();
+    const SurfaceMesh before = m;
+    const DegenerateCleanup c = remove_degenerate_triangles(m);
+    EXPECT_EQ(c.flips + c.collapses + c.left, 0u);
+    EXPECT_EQ(m.triangles, before.triangles);
 }
 
 TEST(Offset, MovesSphereVerticesRadiallyByTheDistance) {
