@@ -1,6 +1,7 @@
 // CGAL translation unit: exact self-intersection detection and hole filling (ch. 6.1;
 // docs/libraries.md section 3). Rarely touched, so its ~40 s compile is paid once.
 #include "nodes/simplify/mesh_repair.hpp"
+#include "nodes/simplify/cgal_surface_mesh.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -13,23 +14,12 @@
 namespace cf {
 
 namespace {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
+using cgal_mesh::Kernel;
+using cgal_mesh::Mesh;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-Mesh to_cgal(const SurfaceMesh& in) {
-    std::vector<Kernel::Point_3> points;
-    points.reserve(in.vertices.size());
-    for (const Vec3& v : in.vertices) points.emplace_back(v.x(), v.y(), v.z());
-    std::vector<std::vector<std::size_t>> polys;
-    polys.reserve(in.triangles.size());
-    for (const Tri& t : in.triangles) polys.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
-    if (!PMP::is_polygon_soup_a_polygon_mesh(polys))
-        throw std::invalid_argument("mesh repair needs a manifold, consistently oriented mesh");
-    Mesh mesh;
-    PMP::polygon_soup_to_polygon_mesh(points, polys, mesh);
-    return mesh;
-}
+using cgal_mesh::from_cgal;
+using cgal_mesh::to_cgal;
 }  // namespace
 
 std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& in) {
@@ -55,7 +45,7 @@ std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& in) 
 }
 
 std::size_t fill_holes(SurfaceMesh& in) {
-    Mesh mesh = to_cgal(in);
+    Mesh mesh = to_cgal(in, "mesh repair");
     std::vector<Mesh::Halfedge_index> borders;
     for (auto h : mesh.halfedges())
         if (mesh.is_border(h)) borders.push_back(h);
@@ -70,18 +60,7 @@ std::size_t fill_holes(SurfaceMesh& in) {
         ++filled;
     }
     mesh.collect_garbage();
-    SurfaceMesh out;
-    for (auto v : mesh.vertices()) {
-        const auto& p = mesh.point(v);
-        out.vertices.emplace_back(p.x(), p.y(), p.z());
-    }
-    for (auto f : mesh.faces()) {
-        Tri t{};
-        int k = 0;
-        for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = int(v.idx());
-        out.triangles.push_back(t);
-    }
-    in = std::move(out);
+    in = from_cgal(mesh);
     return filled;
 }
 
