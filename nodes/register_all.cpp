@@ -19,6 +19,7 @@ const graph::NodeRegistry& node_registry() {
         register_segment_nodes(r);
         register_bem_nodes(r);
         register_fields_nodes(r);
+        register_propagate_nodes(r);
         return r;
     }();
     return registry;

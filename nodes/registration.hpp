@@ -16,7 +16,8 @@ void register_levelset_nodes(graph::NodeRegistry& r);  // nodes/levelset (levels
 void register_simplify_nodes(graph::NodeRegistry& r);  // nodes/simplify
 void register_segment_nodes(graph::NodeRegistry& r);   // nodes/segment (segment.*, export.fragments)
 void register_bem_nodes(graph::NodeRegistry& r);       // nodes/bem (assemble.sgbem, solve.sgbem)
-void register_fields_nodes(graph::NodeRegistry& r);    // nodes/fields (fields.*: toughness and strength)
+void register_fields_nodes(graph::NodeRegistry& r);    // nodes/fields (fields.*, material.brittle)
+void register_propagate_nodes(graph::NodeRegistry& r); // nodes/propagate (fracture.*, propagate.fronts)
 
 // Verification cases per stage (crackflow verify).
 // (stages add: void add_<stage>_verification_cases(std::vector<VerificationCase>& cases);)

@@ -4,8 +4,11 @@
 #include "graph/registry.hpp"
 #include "nodes/bem/bem_types.hpp"
 #include "nodes/bem/bem_vtk_export.hpp"
+#include "nodes/bem/displacement_correlation.hpp"
 #include "nodes/registration.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace cf {
@@ -23,6 +26,7 @@ graph::NodeType assemble_node() {
     t.input<SurfaceMesh>("mesh", "closed, outward-oriented ordinary surface (BEM resolution)");
     t.optional_input<SurfaceMesh>("cracks", "open crack sheets strictly inside the body; regions are the cracks");
     t.optional_input<bem::BemOperators>("previous", "operators of the previous step, extended append-only");
+    t.optional_input<Material>("material", "when connected, E and nu come from it (material.brittle) instead of the parameters");
     t.output<bem::BemOperators>("operators", "immutable; blocks shared with 'previous' where unchanged");
     t.param_real("E", 3.1e9, "Pa", "Young's modulus").above(0);
     t.param_real("nu", 0.327, "", "Poisson's ratio").range(0, 0.4999);
@@ -40,6 +44,7 @@ graph::NodeType assemble_node() {
         Material mat;
         mat.E = c.real("E");
         mat.nu = c.real("nu");
+        if (c.has("material")) mat = c.in<Material>("material");
         const SurfaceMesh& mesh = c.in<SurfaceMesh>("mesh");
         bem::BemOperators out;
         try {
@@ -143,12 +148,41 @@ graph::NodeType vtk_node() {
     return t;
 }
 
+graph::NodeType sif_node() {
+    graph::NodeType t("sif.displacement_correlation",
+                      "Stress-intensity factors K_I, K_II, K_III per crack-front edge by displacement correlation "
+                      "(eq. 2.39 with the full-jump constant) at the interior node of the edge's triangle, with the tip "
+                      "frame e1 (forward), e2 (crack normal), e3 (front tangent) (ch. 4.5.2). The fast estimator of ch. 5 "
+                      "produces the same output, so a pipeline swaps one for the other by changing this node.");
+    t.input<bem::BemSolution>("solution", "from solve.sgbem (with cracks)");
+    t.output<std::vector<bem::FrontEdgeSif>>("sifs", "one record per crack-front edge [Pa*sqrt(m)]");
+    t.run([](graph::NodeContext& c) {
+        const bem::BemSolution& sol = c.in<bem::BemSolution>("solution");
+        std::vector<bem::FrontEdgeSif> sifs;
+        if (sol.cracks && sol.cracks->cracks.num_triangles() > 0) {
+            const double mu = sol.surface->elastic.mu, nu = sol.surface->elastic.nu;
+            try {
+                sifs = bem::displacement_correlation_sifs(sol.cracks->cracks, sol.crack_opening, 2 * mu * (1 + nu), nu);
+            } catch (const std::invalid_argument& e) {
+                c.fail(std::string("input 'solution' crack sheets: ") + e.what());
+            }
+        }
+        double kmax = 0;
+        for (const auto& s : sifs) kmax = std::max(kmax, std::abs(s.KI));
+        c.count("front_edges", static_cast<double>(sifs.size()));
+        c.count("max_abs_KI", kmax);
+        c.out("sifs", std::move(sifs));
+    });
+    return t;
+}
+
 }  // namespace
 
 void register_bem_nodes(graph::NodeRegistry& r) {
     r.add(assemble_node());
     r.add(solve_node());
     r.add(vtk_node());
+    r.add(sif_node());
 }
 
 }  // namespace cf

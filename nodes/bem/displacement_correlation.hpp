@@ -4,6 +4,7 @@
 // front, K_I = mu sqrt(2 pi) [u].e2 / (4 (1-nu) sqrt d), K_II likewise with e1,
 // K_III = mu sqrt(2 pi) [u].e3 / (4 sqrt d). (Eq. 2.39's mu sqrt(pi) du / (c sqrt(2d)) holds for the
 // one-face displacement, half the jump.)
+#include "graph/value.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
 #include <Eigen/Geometry>
@@ -26,3 +27,5 @@ std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& crack
                                                         double E, double nu);
 
 }  // namespace cf::bem
+
+CF_GRAPH_TYPE(std::vector<cf::bem::FrontEdgeSif>, "FrontSifs");  // one per crack-front edge

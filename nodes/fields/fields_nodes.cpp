@@ -2,6 +2,7 @@
 // Each outputs a ScalarField (toughness [Pa*sqrt(m)] or strength [Pa]) with its compressive factor.
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
+#include "nodes/domain/material.hpp"
 #include "nodes/fields/closed_form_fields.hpp"
 #include "nodes/fields/grid_fields.hpp"
 #include "nodes/registration.hpp"
@@ -97,9 +98,39 @@ graph::NodeType vdb_node() {
     return t;
 }
 
+graph::NodeType material_node() {
+    graph::NodeType t("material.brittle",
+                      "An isotropic linear-elastic brittle material (App. A items 3-8). Every parameter is required, so a "
+                      "pipeline states its material in one place; assemble.sgbem, initiate.* and propagate.fronts read it.");
+    t.param_real("E", 0, "Pa", "Young's modulus").required().above(0);
+    t.param_real("nu", 0, "", "Poisson's ratio, in (0, 0.5)").required().above(0).below(0.5);
+    t.param_real("rho", 0, "kg/m^3", "density (sets the Rayleigh speed, hence simulated time)").required().above(0);
+    t.param_real("tensile_strength", 0, "Pa", "tensile strength (crack initiation, ch. 4.4)").required().above(0);
+    t.param_real("toughness", 0, "Pa*sqrt(m)", "fracture toughness K_c (ch. 4.5)").required().above(0);
+    t.param_real("compressive_factor", 0, "", "f_c: compressive strength and toughness = f_c * tensile").required().at_least(1);
+    t.output<Material>("material", "the material");
+    t.run([](graph::NodeContext& c) {
+        Material m;
+        m.E = c.real("E");
+        m.nu = c.real("nu");
+        m.rho = c.real("rho");
+        m.tensile_strength = c.real("tensile_strength");
+        m.toughness = c.real("toughness");
+        m.compressive_factor = c.real("compressive_factor");
+        try {
+            validate(m);
+        } catch (const std::invalid_argument& e) {
+            c.fail(e.what());
+        }
+        c.out("material", m);
+    });
+    return t;
+}
+
 }  // namespace
 
 void register_fields_nodes(graph::NodeRegistry& r) {
+    r.add(material_node());
     r.add(homogeneous_node());
     r.add(layered_node());
     r.add(granular_node());

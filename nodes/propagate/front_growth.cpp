@@ -52,7 +52,7 @@ FrontGrowth grow_front(SurfaceMesh& cracks, const CrackFront& front, const Front
     std::vector<char> moves(N);
     for (std::size_t i = 0; i < N; ++i) {
         target[i] = window_mean(fm, static_cast<long>(i * n));
-        moves[i] = (target[i] - cracks.vertices[front.nodes[i]]).norm() >= lo;
+        moves[i] = (target[i] - cracks.vertices[front.nodes[i]]).norm() >= lo && (!s.admissible || s.admissible(target[i]));
     }
     // Case (c): merge the new nodes of short edges whose ends both move (greedy along the front,
     // a node merges at most once, a closed front keeps at least three nodes).
@@ -63,6 +63,7 @@ FrontGrowth grow_front(SurfaceMesh& cracks, const CrackFront& front, const Front
         if (!moves[i] || !moves[j] || merged_with[i] >= 0 || merged_with[j] >= 0) continue;
         if ((target[i] - target[j]).norm() > lo) continue;
         if (front.closed && remaining <= 3) continue;
+        if (s.admissible && !s.admissible(0.5 * (target[i] + target[j]))) continue;
         merged_with[i] = static_cast<long>(j);
         merged_with[j] = static_cast<long>(i);
         const Vec3 mid = 0.5 * (target[i] + target[j]);
@@ -106,9 +107,11 @@ FrontGrowth grow_front(SurfaceMesh& cracks, const CrackFront& front, const Front
             continue;
         }
         const double len = (P(A) - P(B)).norm();
-        if (len >= hi) {  // (b): split at the mean of the edge's markers (twice the node sampling density)
+        const Vec3 split_point = range_mean(fm, i * n, (i + 1) * n);
+        if (len >= hi && (!s.admissible || s.admissible(split_point))) {
+            // (b): split at the mean of the edge's markers (twice the node sampling density)
             const int M = static_cast<int>(cracks.vertices.size());
-            cracks.vertices.push_back(range_mean(fm, i * n, (i + 1) * n));
+            cracks.vertices.push_back(split_point);
             add(b, a, M);
             if (moves[i]) add(a, A, M);
             if (moves[j]) add(b, M, B);

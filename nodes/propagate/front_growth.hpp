@@ -9,12 +9,18 @@
 // Existing vertices and triangles are never changed: the result appends to the crack mesh.
 #include "nodes/propagate/front_markers.hpp"
 
+#include <functional>
+
 namespace cf::propagate {
 
 struct GrowthSettings {
     double r_c = 0;            // target BEM edge length [m]
     double min_factor = 0.2;   // contract new front edges at or below min_factor r_c
     double max_factor = 1.4;   // split new front edges at or above max_factor r_c
+    // Where a new BEM node may go (empty: anywhere). The fracture loop rejects points closer to
+    // the ordinary surface or another crack than the BEM quadrature tolerates; a node whose
+    // target is rejected stays on the front, a split whose midpoint is rejected is not made.
+    std::function<bool(const Vec3&)> admissible;
 };
 
 struct FrontGrowth {

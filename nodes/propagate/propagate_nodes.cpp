@@ -1,0 +1,147 @@
+// Node adapters of the fracture loop (thesis ch. 4.1, 4.5): fracture.start (the loop's initial
+// state), propagate.fronts (one BEM time step of crack-front propagation with recording and
+// BEM mesh growth) and fracture.geometry (the state's crack sheets and grids for other stages).
+#include "graph/node_context.hpp"
+#include "graph/registry.hpp"
+#include "nodes/domain/material.hpp"
+#include "nodes/levelset/level_set.hpp"
+#include "nodes/propagate/fracture_step.hpp"
+#include "nodes/registration.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace cf {
+namespace {
+
+graph::NodeType start_node() {
+    graph::NodeType t("fracture.start",
+                      "The initial state of a fracture simulation: no cracks yet, the coarse crack resolution r_c "
+                      "(App. A item 15) and the fine resolution r_f of the object's level set (item 16). The state is "
+                      "the variable a fracture loop carries from one BEM time step to the next.");
+    t.input<SurfaceMesh>("mesh", "the ordinary BEM surface (its triangle count sizes the initiation bookkeeping)");
+    t.input<LevelSet>("object", "the object's level set; its voxel size is r_f");
+    t.param_real("r_c", 0, "m", "target edge length of new crack elements in the BEM mesh; must exceed r_f "
+                                  "(the thesis uses r_c / r_f = 17-80)").required().above(0);
+    t.output<propagate::FractureState>("state", "empty fracture state");
+    t.run([](graph::NodeContext& c) {
+        const LevelSet& object = c.in<LevelSet>("object");
+        propagate::FractureState s;
+        try {
+            s = propagate::start_fracture_state(c.real("r_c"), object.voxel_size, object.half_width,
+                                                c.in<SurfaceMesh>("mesh").num_triangles());
+        } catch (const std::invalid_argument& e) {
+            c.fail(std::string("parameter 'r_c' / input 'object': ") + e.what());
+        }
+        c.count("r_c_over_r_f", s.r_c / s.r_f);
+        c.out("state", std::move(s));
+    });
+    return t;
+}
+
+graph::NodeType fronts_node() {
+    graph::NodeType t("propagate.fronts",
+                      "One BEM time step of crack propagation (ch. 4.5.2): SIFs averaged to the coarse front nodes and "
+                      "interpolated to n = ceil(r_c/r_f) markers per edge; n forward-Euler sub-steps with speed eq. (4.8), "
+                      "direction eq. (4.10)-(4.14) (compressive rule, blending, toughness steering; the first sub-step of a "
+                      "new crack is planar); after each sub-step the fig. 27 tests deactivate markers that left the object "
+                      "or met a crack, and the swept strips are recorded into the crack grids (ch. 6.2); finally the crack "
+                      "sheets grow by the elements of fig. 16. 'continue' is false once a step adds no element.");
+    t.input<propagate::FractureState>("state", "fracture state of the previous step (after initiation)");
+    t.input<std::vector<bem::FrontEdgeSif>>("sifs", "per crack-front edge, from sif.displacement_correlation or an estimator");
+    t.input<ScalarField>("toughness", "toughness field K_c [Pa*sqrt(m)] with its compressive factor f_c");
+    t.input<Material>("material", "E, nu, rho (c_R = 0.9 sqrt(mu/rho) sets the simulated time)");
+    t.optional_input<LevelSet>("object", "object level set: markers leaving it stop (fig. 27 a); without it they never do");
+    t.param_int("substeps", 0, "sub-steps per BEM step; 0: n = ceil(r_c / r_f) as in the thesis").at_least(0);
+    t.param_real("surface_margin", 1, "voxels", "new BEM crack nodes stay this many r_f inside the object").at_least(0);
+    t.param_real("crack_margin", 0, "voxels", "new BEM crack nodes stay this many r_f outside other cracks' volumes")
+        .at_least(0);
+    t.param_bool("write_substep_vdb", false,
+                 "write the crack grids after every sub-step as cracks_step<s>_sub<k>.vdb (App. A item 19)");
+    t.output<propagate::FractureState>("state", "state after the step");
+    t.output<bool>("continue", "true while the step added elements or new cracks wait for their first SIFs");
+    t.run([](graph::NodeContext& c) {
+        propagate::FractureState s = c.in<propagate::FractureState>("state");
+        const ScalarField& toughness = c.in<ScalarField>("toughness");
+        if (toughness.quantity != FieldQuantity::toughness)
+            c.fail("input 'toughness' is a " + std::string(quantity_name(toughness.quantity)) +
+                   " field; connect a field with quantity: toughness");
+        const Material& mat = c.in<Material>("material");
+        propagate::StepSettings set;
+        set.law.E = mat.E;
+        set.law.nu = mat.nu;
+        set.law.rho = mat.rho;
+        set.substeps = static_cast<int>(c.integer("substeps"));
+        set.surface_margin = c.real("surface_margin") * s.r_f;
+        set.crack_margin = c.real("crack_margin") * s.r_f;
+        const LevelSet* object = c.has("object") ? &c.in<LevelSet>("object") : nullptr;
+        if (object && std::abs(object->voxel_size - s.r_f) > 1e-9 * s.r_f)
+            c.fail("input 'object' has voxel size " + std::to_string(object->voxel_size) + " m but the state was started with r_f = " +
+                   std::to_string(s.r_f) + " m; use the same level set for fracture.start and propagate.fronts");
+        propagate::SubstepObserver observer;
+        const int step = s.step;
+        if (c.boolean("write_substep_vdb")) {
+            const auto dir = c.output_dir();
+            observer = [dir, step](int k, const CrackRecorder& rec) {
+                const CrackLevelSets g = rec.snapshot();
+                std::vector<std::pair<std::string, LevelSet>> grids;
+                for (std::size_t i = 0; i < g.cracks.size(); ++i) grids.emplace_back("crack" + std::to_string(i), g.cracks[i]);
+                write_vdb(dir / ("cracks_step" + std::to_string(step) + "_sub" + std::to_string(k) + ".vdb"), grids);
+            };
+        }
+        propagate::StepReport r;
+        try {
+            r = propagate::propagate_step(s, c.in<std::vector<bem::FrontEdgeSif>>("sifs"), toughness, object, set, observer);
+        } catch (const std::invalid_argument& e) {
+            c.fail(e.what());
+        }
+        c.count("step", s.step);
+        c.count("fronts_propagated", r.fronts_propagated);
+        c.count("fronts_waiting", r.fronts_waiting);
+        c.count("fronts_stopped", r.fronts_stopped);
+        c.count("markers", static_cast<double>(r.markers));
+        c.count("active_markers", static_cast<double>(r.active_markers));
+        c.count("hits_left_object", static_cast<double>(r.hits_left_object));
+        c.count("hits_crossed_crack", static_cast<double>(r.hits_crossed_crack));
+        c.count("hits_self_intersection", static_cast<double>(r.hits_self_intersection));
+        c.count("elements_added", static_cast<double>(r.elements_added));
+        c.count("crack_elements", static_cast<double>(s.cracks.num_triangles()));
+        c.count("voxels_written", static_cast<double>(r.voxels_written));
+        c.count("max_marker_travel_m", r.max_marker_travel);
+        c.count("simulated_time_s", r.simulated_time);
+        c.count("propagate_seconds", r.propagate_seconds);
+        c.count("record_seconds", r.record_seconds);
+        c.count("grow_seconds", r.grow_seconds);
+        c.out("continue", r.should_continue());
+        c.out("state", std::move(s));
+    });
+    return t;
+}
+
+graph::NodeType geometry_node() {
+    graph::NodeType t("fracture.geometry",
+                      "The crack geometry of a fracture state: the coarse crack sheets (for assemble.sgbem and VTK export) "
+                      "and the fine crack level sets (for segment.fragments and VDB export).");
+    t.input<propagate::FractureState>("state", "a fracture state");
+    t.output<SurfaceMesh>("cracks", "BEM crack sheets; region r is crack r");
+    t.output<CrackLevelSets>("grids", "one thickened crack grid per crack [m]");
+    t.run([](graph::NodeContext& c) {
+        const propagate::FractureState& s = c.in<propagate::FractureState>("state");
+        c.count("cracks", s.num_cracks());
+        c.count("crack_elements", static_cast<double>(s.cracks.num_triangles()));
+        c.count("steps", s.step);
+        c.out("cracks", s.cracks);
+        c.out("grids", s.grids);
+    });
+    return t;
+}
+
+}  // namespace
+
+void register_propagate_nodes(graph::NodeRegistry& r) {
+    r.add(start_node());
+    r.add(fronts_node());
+    r.add(geometry_node());
+}
+
+}  // namespace cf
