@@ -220,7 +220,11 @@ private:
         st.wall_seconds += t1 - t0;
         st.intervals.emplace_back(t0, t1);
         st.counts = r.counts;
-        if (p.per_iteration()) st.iteration_counts.push_back(r.counts);
+        if (p.per_iteration()) {  // per-step figures of a loop (e.g. a fracture step's time split)
+            auto counts = r.counts;
+            counts["wall_seconds"] = t1 - t0;
+            st.iteration_counts.push_back(std::move(counts));
+        }
         st.peak_rss_bytes = peak_rss_bytes();
         {
             std::lock_guard<std::mutex> lock(outputs_mutex_);

@@ -1,5 +1,7 @@
 #include "graph/node_context.hpp"
 
+#include <cstdio>
+
 namespace cf::graph {
 
 const Value& NodeContext::input_value(std::string_view port) const {
@@ -18,6 +20,18 @@ void NodeContext::set_output(std::string_view port, Value v) {
         throw std::logic_error("node type " + type_.name() + ": output '" + std::string(port) + "' expects " +
                                p->type.name + ", got " + v.type().name);
     outputs_[std::string(port)] = std::move(v);
+}
+
+std::filesystem::path NodeContext::output_path(const std::string& pattern) const {
+    std::string path = pattern;
+    const std::string tag = "{iteration}";
+    for (auto pos = path.find(tag); pos != std::string::npos; pos = path.find(tag)) {
+        char buf[16];
+        std::snprintf(buf, sizeof buf, "%04d", iteration_ < 0 ? 0 : iteration_);
+        path.replace(pos, tag.size(), buf);
+    }
+    std::filesystem::path p = path;
+    return p.is_relative() ? options_.output_dir / p : p;
 }
 
 const ParamValue& NodeContext::param(std::string_view n) const {

@@ -75,6 +75,9 @@ public:
     const std::filesystem::path& output_dir() const { return options_.output_dir; }
     bool fast() const { return options_.fast; }
     int iteration() const { return iteration_; }  // loop iteration, -1 outside loops
+    // A path parameter with '{iteration}' replaced by the loop iteration (4 digits, 0 outside
+    // loops) and made absolute against the output directory; per-step files land side by side.
+    std::filesystem::path output_path(const std::string& pattern) const;
 
     const std::map<std::string, Value>& outputs() const { return outputs_; }
     const std::map<std::string, double>& counts() const { return counts_; }

@@ -19,6 +19,7 @@ const graph::NodeRegistry& node_registry() {
         register_segment_nodes(r);
         register_bem_nodes(r);
         register_fields_nodes(r);
+        register_initiate_nodes(r);
         register_propagate_nodes(r);
         return r;
     }();
@@ -32,6 +33,7 @@ const std::vector<VerificationCase>& verification_cases() {
         add_initiate_verification_cases(c);
         add_levelset_verification_cases(c);
         add_bem_verification_cases(c);
+        add_fracture_verification_cases(c);
         std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
         return c;
     }();

@@ -17,6 +17,7 @@ void register_simplify_nodes(graph::NodeRegistry& r);  // nodes/simplify
 void register_segment_nodes(graph::NodeRegistry& r);   // nodes/segment (segment.*, export.fragments)
 void register_bem_nodes(graph::NodeRegistry& r);       // nodes/bem (assemble.sgbem, solve.sgbem)
 void register_fields_nodes(graph::NodeRegistry& r);    // nodes/fields (fields.*, material.brittle)
+void register_initiate_nodes(graph::NodeRegistry& r);  // nodes/initiate (initiate.cracks, initiate.user_crack)
 void register_propagate_nodes(graph::NodeRegistry& r); // nodes/propagate (fracture.*, propagate.fronts)
 
 // Verification cases per stage (crackflow verify).
@@ -25,5 +26,6 @@ void add_propagate_verification_cases(std::vector<VerificationCase>& cases);  //
 void add_initiate_verification_cases(std::vector<VerificationCase>& cases);   // nodes/initiate: case 4
 void add_bem_verification_cases(std::vector<VerificationCase>& cases);  // nodes/bem: operator identities, cases 1-3, 5
 void add_levelset_verification_cases(std::vector<VerificationCase>& cases);  // nodes/segment: cases 9-12
+void add_fracture_verification_cases(std::vector<VerificationCase>& cases);  // nodes/fracture_verification.cpp: case 8
 
 }  // namespace cf

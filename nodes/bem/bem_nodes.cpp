@@ -124,7 +124,8 @@ graph::NodeType vtk_node() {
                       "with the opening 'du' = u+ - u- [m] and the average displacement 'u_average' (thesis ch. 6.4). "
                       "Files are written atomically.");
     t.input<bem::BemSolution>("solution", "from solve.sgbem");
-    t.param_string("path", "", "surface .vtp file; relative paths are relative to the run's output directory").required();
+    t.param_string("path", "", "surface .vtp file; relative paths are relative to the run's output directory; '{iteration}' "
+                               "becomes the loop iteration (per-step files)").required();
     t.param_string("crack_path", "",
                    "crack-sheet .vtp file (written only when there are cracks); empty: '<path stem>_cracks.vtp' beside 'path'");
     t.param_bool("crack_average", true,
@@ -132,11 +133,10 @@ graph::NodeType vtk_node() {
                  "integral per crack vertex)");
     t.run([](graph::NodeContext& c) {
         const bem::BemSolution& sol = c.in<bem::BemSolution>("solution");
-        std::filesystem::path path = c.string("path");
-        if (path.is_relative()) path = c.output_dir() / path;
+        const std::filesystem::path path = c.output_path(c.string("path"));
         std::filesystem::path crack_path = c.string("crack_path");
         if (crack_path.empty()) crack_path = path.parent_path() / (path.stem().string() + "_cracks.vtp");
-        else if (crack_path.is_relative()) crack_path = c.output_dir() / crack_path;
+        else crack_path = c.output_path(c.string("crack_path"));
         try {
             bem::write_bem_vtk(sol, path, crack_path, c.boolean("crack_average"));
         } catch (const std::exception& e) {

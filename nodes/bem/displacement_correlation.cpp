@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,13 @@ std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& crack
     for (const auto& e : edge_tris)
         if (e.second.size() == 1) front[e.first.first] = front[e.first.second] = 1;
     const double mu = E / (2 * (1 + nu));
+    // Vertex adjacency, for front triangles whose third node is itself on the front (an "ear"
+    // at a corner of the sheet): their correlation point is the nearest interior neighbour.
+    std::vector<std::vector<int>> adjacent(cracks.num_vertices());
+    for (const auto& e : edge_tris) {
+        adjacent[e.first.first].push_back(e.first.second);
+        adjacent[e.first.second].push_back(e.first.first);
+    }
     std::vector<FrontEdgeSif> out;
     for (const auto& e : edge_tris) {
         if (e.second.size() != 1) continue;
@@ -27,16 +35,56 @@ std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& crack
         FrontEdgeSif s;
         s.v0 = e.first.first;
         s.v1 = e.first.second;
+        int third = -1;
         for (int v : t)
-            if (v != s.v0 && v != s.v1) s.interior = v;
-        if (front[s.interior])
-            throw std::invalid_argument("crack front triangle " + std::to_string(e.second[0]) +
-                                        " has no interior node; displacement correlation needs one node off the front");
-        const Vec3 p0 = cracks.vertices[s.v0], p1 = cracks.vertices[s.v1], q = cracks.vertices[s.interior];
+            if (v != s.v0 && v != s.v1) third = v;
+        const Vec3 p0 = cracks.vertices[s.v0], p1 = cracks.vertices[s.v1];
         const Vec3 n = (cracks.vertices[t[1]] - cracks.vertices[t[0]]).cross(cracks.vertices[t[2]] - cracks.vertices[t[0]]).normalized();
         const Vec3 tang = (p1 - p0).normalized();
         Vec3 e1 = tang.cross(n);
-        if (e1.dot(p0 - q) < 0) e1 = -e1;
+        if (e1.dot(p0 - cracks.vertices[third]) < 0) e1 = -e1;
+        s.interior = third;
+        if (front[third]) {
+            // Interior nodes one edge away from the triangle's corners, behind the edge; the one
+            // closest to the perpendicular through the edge midpoint. Failing that (a corner of a
+            // coarse sheet), the interior node of the same crack nearest to the point one edge
+            // length behind the midpoint.
+            const Vec3 mid = 0.5 * (p0 + p1);
+            const double h = (p1 - p0).norm();
+            double best = std::numeric_limits<double>::infinity();
+            s.interior = -1;
+            for (int corner : t)
+                for (int q : adjacent[corner]) {
+                    if (front[q]) continue;
+                    const Vec3 r = cracks.vertices[q] - mid;
+                    if (-r.dot(e1) < 0.1 * h) continue;
+                    const double lateral = std::abs(r.dot(tang));
+                    if (lateral < best) {
+                        best = lateral;
+                        s.interior = q;
+                    }
+                }
+            if (s.interior < 0) {
+                const int region = cracks.region_of(e.second[0]);
+                const Vec3 behind = mid - h * e1;
+                for (std::size_t tt = 0; tt < cracks.num_triangles(); ++tt) {
+                    if (cracks.region_of(tt) != region) continue;
+                    for (int q : cracks.triangles[tt]) {
+                        if (front[q] || -(cracks.vertices[q] - mid).dot(e1) < 0.1 * h) continue;
+                        const double dist = (cracks.vertices[q] - behind).norm();
+                        if (dist < best) {
+                            best = dist;
+                            s.interior = q;
+                        }
+                    }
+                }
+            }
+            if (s.interior < 0)
+                throw std::invalid_argument("crack front triangle " + std::to_string(e.second[0]) +
+                                            " has no interior node behind it; displacement correlation needs one "
+                                            "(the crack sheet has no interior node)");
+        }
+        const Vec3 q = cracks.vertices[s.interior];
         s.e1 = e1;
         s.e2 = n;
         s.e3 = e1.cross(n);

@@ -15,14 +15,15 @@ namespace cf::bem {
 
 struct FrontEdgeSif {
     int v0 = -1, v1 = -1;  // front edge (crack mesh vertex ids)
-    int interior = -1;     // third node of the front triangle, where [u] is read
+    int interior = -1;     // where [u] is read: the third node of the front triangle, or (when that node is
+                           // itself on the front) the nearest interior neighbour behind the edge
     double d = 0;          // its distance behind the front edge [m]
     Vec3 e1, e2, e3;       // tip frame: propagation direction, crack normal, front tangent
     double KI = 0, KII = 0, KIII = 0;  // [Pa sqrt(m)]
 };
 
 // One entry per boundary edge of the crack sheets. Throws std::invalid_argument when a front
-// triangle has no interior third node.
+// crack has no interior node behind it.
 std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& cracks, const std::vector<Vec3>& opening,
                                                         double E, double nu);
 

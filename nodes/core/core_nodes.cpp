@@ -11,21 +11,6 @@
 
 namespace cf {
 
-namespace {
-
-std::string expand_iteration(std::string path, int iteration) {
-    const std::string tag = "{iteration}";
-    auto pos = path.find(tag);
-    if (pos != std::string::npos) {
-        char buf[16];
-        std::snprintf(buf, sizeof buf, "%04d", iteration < 0 ? 0 : iteration);
-        path.replace(pos, tag.size(), buf);
-    }
-    return path;
-}
-
-}  // namespace
-
 void register_core_nodes(graph::NodeRegistry& r) {
     {
         graph::NodeType t("core.real", "A constant real number.");
@@ -72,8 +57,7 @@ void register_core_nodes(graph::NodeRegistry& r) {
         t.input<double>("value", "the number to write");
         t.param_string("path", "value.txt", "output file, relative to the run's output directory").required();
         t.run([](graph::NodeContext& c) {
-            std::filesystem::path p = expand_iteration(c.string("path"), c.iteration());
-            if (p.is_relative()) p = c.output_dir() / p;
+            const std::filesystem::path p = c.output_path(c.string("path"));
             const double v = c.in<double>("value");
             graph::write_atomically(p, [&](std::ostream& o) {
                 char buf[40];

@@ -28,14 +28,17 @@ double distance_to_fronts(const Vec3& p, const std::vector<Segment>& segments) {
 
 std::vector<Initiation> select_initiations(const std::vector<ElementStress>& elements, const ScalarField& strength,
                                            const std::vector<char>& initiated, const std::vector<Segment>& front_segments,
-                                           const InitiationSettings& s) {
+                                           const InitiationSettings& s, const CandidateCheck& admissible,
+                                           SelectionCounts* counts) {
     if (!initiated.empty() && initiated.size() != elements.size())
         throw std::invalid_argument("crack initiation: " + std::to_string(initiated.size()) +
                                     " 'initiated' flags for " + std::to_string(elements.size()) + " elements");
     if (!(s.r_c > 0)) throw std::invalid_argument("crack initiation: r_c must be > 0 [m]");
     const int budget = s.max_cracks - s.existing_cracks;
     std::vector<Initiation> out;
-    if (budget <= 0) return out;  // (d)
+    SelectionCounts local;
+    SelectionCounts& n = counts ? *counts : local;
+    n = SelectionCounts{};
 
     std::vector<Initiation> candidates;
     for (std::size_t e = 0; e < elements.size(); ++e) {
@@ -58,10 +61,19 @@ std::vector<Initiation> select_initiations(const std::vector<ElementStress>& ele
     std::stable_sort(candidates.begin(), candidates.end(),
                      [](const Initiation& a, const Initiation& b) { return a.excess > b.excess; });
 
+    n.over_strength = static_cast<int>(candidates.size());
+
     std::vector<Segment> fronts = front_segments;
     for (const Initiation& c : candidates) {
-        if (static_cast<int>(out.size()) >= budget) break;                            // (d)
-        if (distance_to_fronts(elements[c.element].centroid, fronts) <= s.r_c) continue;  // (c)
+        if (static_cast<int>(out.size()) >= budget) break;  // (d)
+        if (distance_to_fronts(elements[c.element].centroid, fronts) <= s.r_c) {  // (c)
+            ++n.skipped_near_front;
+            continue;
+        }
+        if (admissible && !admissible(c)) {
+            ++n.rejected;
+            continue;
+        }
         out.push_back(c);
         const auto hex = hexagon_front(hexagon_crack(c.centre, c.plane_normal, s.r_c, "new"));
         fronts.insert(fronts.end(), hex.begin(), hex.end());

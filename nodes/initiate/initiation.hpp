@@ -5,6 +5,7 @@
 #include "nodes/initiate/surface_stress.hpp"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace cf::initiate {
@@ -32,6 +33,17 @@ struct Initiation {
 
 using Segment = std::array<Vec3, 2>;
 
+// What happened to the candidates of one selection (for the run report).
+struct SelectionCounts {
+    int over_strength = 0;       // not initiated before and (a) holds
+    int skipped_near_front = 0;  // (c) failed
+    int rejected = 0;            // passed (a)-(c) but the caller's `admissible` check refused it
+};
+
+// Extra test a candidate must pass after (a)-(c) (e.g. its hexagon must not cut the surface);
+// a refused candidate does not use up the budget (d).
+using CandidateCheck = std::function<bool(const Initiation&)>;
+
 // Conditions (a)-(d) of ch. 4.4: (a) sigma_max > strength(centroid) or -sigma_min > f_c strength;
 // (b) the element has not initiated before (`initiated`, per element, may be empty = none);
 // (c) the centroid is farther than r_c from every crack-front segment, including fronts of
@@ -40,7 +52,8 @@ using Segment = std::array<Vec3, 2>;
 // crack per element. Throws std::invalid_argument when sizes disagree or r_c <= 0.
 std::vector<Initiation> select_initiations(const std::vector<ElementStress>& elements, const ScalarField& strength,
                                            const std::vector<char>& initiated, const std::vector<Segment>& front_segments,
-                                           const InitiationSettings& settings);
+                                           const InitiationSettings& settings, const CandidateCheck& admissible = {},
+                                           SelectionCounts* counts = nullptr);
 
 // Centre of the new crack: the element centroid moved into the body (against the outward
 // normal) by R (|n - (n.p) p| + 1/4), R = 0.2 r_c, so the hexagon of radius R in the plane

@@ -29,11 +29,60 @@ bool any_active(const FrontMarkers& m) {
     return false;
 }
 
-// Slides markers back to equal spacing along their polyline (ch. 4.5.2). A closed front keeps
-// marker 0 where it is; states other than the position stay with their index.
+// Slides markers back to equal spacing along their polyline (ch. 4.5.2), edge by edge: the
+// markers at coarse front nodes (index i n) and deactivated markers are anchors, and the active
+// markers between two anchors are spaced evenly on the polyline between them. A front that
+// stopped at the object's surface stays attached there while the rest moves on, and no marker
+// slides away from the coarse edge it belongs to (front growth relies on that).
 void respace(FrontMarkers& fm) {
-    const std::vector<Vec3> even = resample_polyline(fm.positions(), fm.closed, fm.markers.size(), 0);
-    for (std::size_t i = 0; i < fm.markers.size(); ++i) fm.markers[i].position = even[i];
+    const std::size_t M = fm.markers.size();
+    std::vector<std::size_t> anchors;
+    for (std::size_t i = 0; i < M; ++i)
+        if (!fm.markers[i].active || i % fm.per_edge == 0) anchors.push_back(i);
+    if (!fm.closed) {  // the ends of an open front are anchors too
+        if (anchors.empty() || anchors.front() != 0) anchors.insert(anchors.begin(), 0);
+        if (anchors.back() != M - 1) anchors.push_back(M - 1);
+    }
+    if (anchors.empty()) {
+        const std::vector<Vec3> even = resample_polyline(fm.positions(), true, M, 0);
+        for (std::size_t i = 0; i < M; ++i) fm.markers[i].position = even[i];
+        return;
+    }
+    const std::size_t runs = fm.closed ? anchors.size() : anchors.size() - 1;
+    for (std::size_t r = 0; r < runs; ++r) {
+        const std::size_t a = anchors[r];
+        std::size_t b = r + 1 < anchors.size() ? anchors[r + 1] : anchors[0] + M;  // wraps on closed fronts
+        if (b - a < 2) continue;
+        std::vector<Vec3> run;
+        for (std::size_t k = a; k <= b; ++k) run.push_back(fm.markers[k % M].position);
+        const std::vector<Vec3> even = resample_polyline(run, false, run.size());
+        for (std::size_t k = a + 1; k < b; ++k) fm.markers[k % M].position = even[k - a];
+    }
+}
+
+// The frames interpolated from the coarse front (ch. 4.5.2) are re-orthonormalised against the
+// fine front: n3 follows the marker polyline (central difference), n1 stays the interpolated
+// crack normal, n2 = n3 x n1. Where some markers stopped at a surface while their neighbours moved
+// on, the fine front no longer runs parallel to the coarse edge it came from, and the coarse
+// frame would push markers along the front instead of across it.
+void align_frames_to_polyline(FrontMarkers& fm) {
+    const std::size_t M = fm.markers.size();
+    if (M < 2) return;
+    std::vector<Vec3> tangent(M);
+    for (std::size_t i = 0; i < M; ++i) {
+        const std::size_t prev = i > 0 ? i - 1 : (fm.closed ? M - 1 : 0);
+        const std::size_t next = i + 1 < M ? i + 1 : (fm.closed ? 0 : M - 1);
+        tangent[i] = fm.markers[next].position - fm.markers[prev].position;
+    }
+    for (std::size_t i = 0; i < M; ++i) {
+        MarkerState& m = fm.markers[i];
+        const Vec3 n3_old = m.n1.cross(m.n2);
+        Vec3 t = tangent[i] - tangent[i].dot(m.n1) * m.n1;
+        if (!(t.norm() > 1e-12 * (1 + tangent[i].norm()))) continue;
+        if (t.dot(n3_old) < 0) t = -t;
+        const Vec3 n3 = t.normalized();
+        m.n2 = n3.cross(m.n1).normalized();
+    }
 }
 
 }  // namespace
@@ -134,6 +183,7 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
         for (std::size_t f : moving) {
             FrontMarkers& fm = state.fronts[f].markers;
             const bool planar = planar_first[f] && k == 0;
+            align_frames_to_polyline(fm);
             std::vector<Vec3>& a = p0[f];
             std::vector<Vec3>& b = p1[f];
             a = fm.positions();

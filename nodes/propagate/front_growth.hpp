@@ -7,6 +7,8 @@
 //       on its middle), three triangles (two if only one node moved);
 //   (c) too short (both nodes moved): the two new nodes merge into one, one triangle.
 // Existing vertices and triangles are never changed: the result appends to the crack mesh.
+// Nodes whose new triangles would be inverted or slivers (near the object's surface, where some
+// markers stopped and others slid along the front) do not move this step.
 #include "nodes/propagate/front_markers.hpp"
 
 #include <functional>
@@ -17,6 +19,11 @@ struct GrowthSettings {
     double r_c = 0;            // target BEM edge length [m]
     double min_factor = 0.2;   // contract new front edges at or below min_factor r_c
     double max_factor = 1.4;   // split new front edges at or above max_factor r_c
+    // New triangles must not fold back: quality 4 sqrt(3) area / sum(edge^2) (1 = equilateral) at
+    // least min_quality, and normal within acos(min_normal_dot) of the old front triangle's.
+    // A node whose triangles fail stays on the front this step (its markers keep advancing).
+    double min_quality = 0.1;
+    double min_normal_dot = 0.2;
     // Where a new BEM node may go (empty: anywhere). The fracture loop rejects points closer to
     // the ordinary surface or another crack than the BEM quadrature tolerates; a node whose
     // target is rejected stays on the front, a split whose midpoint is rejected is not made.

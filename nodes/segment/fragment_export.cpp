@@ -11,7 +11,8 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
     FragmentExportResult res;
     if (opt.meshes) {
         for (std::size_t i = 0; i < f.fragments.size(); ++i) {
-            const SurfaceMesh m = level_set_to_mesh(f.fragments[i].grid, opt.adaptivity);
+            SurfaceMesh m = level_set_to_mesh(f.fragments[i].grid, opt.adaptivity);
+            if (opt.deformation) opt.deformation->apply(m, &res.deformation);
             char name[64];
             std::snprintf(name, sizeof name, "_%03zu.", i);
             const auto path = dir / (opt.prefix + name + to_string(opt.format));

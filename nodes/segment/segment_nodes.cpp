@@ -2,9 +2,11 @@
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/registration.hpp"
+#include "nodes/bem/solver.hpp"
 #include "nodes/segment/fragment_export.hpp"
 #include "nodes/segment/fragments.hpp"
 
+#include <memory>
 #include <stdexcept>
 
 namespace cf {
@@ -53,15 +55,36 @@ graph::NodeType fragments_node() {
 graph::NodeType export_fragments_node() {
     graph::NodeType t("export.fragments",
                       "Writes each fragment as a mesh (dual contouring of its grid at an adaptivity), all fragment "
-                      "grids into one .vdb (Houdini/Blender), and an exploded preview PNG (ch. 6.4). Undeformed "
-                      "geometry only: interpolated displacement and crack opening wait for the BEM solution type.");
+                      "grids into one .vdb (Houdini/Blender), and an exploded preview PNG (ch. 6.4, listing 2). "
+                      "The mesh files can be deformed (App. A items 23-25; the acceleration grid cell r_c is the BEM mesh's mean edge length): 'continuous' adds the BEM displacement "
+                      "interpolated linearly in the closest coarse triangle (nodal u on the ordinary surface, the "
+                      "crack's average displacement u_c on crack sheets); 'continuous_and_opening' also adds "
+                      "+-w [u] of every crack within half_width r_f, the face chosen by the recorded fine crack "
+                      "surface (w = 1/2 on the crack face, fading linearly to 0 at the band edge where the closest "
+                      "coarse point is on the ordinary surface); 'close_gaps' moves cut-face vertices onto the "
+                      "recorded crack surfaces, removing the sqrt(3) r_f gap of the thickened cracks. The .vdb "
+                      "grids and the preview stay undeformed.");
     t.input<Fragments>("fragments", "from segment.fragments");
+    t.optional_input<bem::BemSolution>("solution", "from solve.sgbem; needed when 'displacement' is not none");
+    t.optional_input<CrackLevelSets>("cracks",
+                                     "the crack grids the fragments were cut with (same r_f, crack r = BEM crack "
+                                     "region r); needed for 'continuous_and_opening' and 'close_gaps'");
     t.param_bool("meshes", true, "write one mesh file per fragment");
     t.param_choice("format", "obj", {"obj", "ply", "stl", "off"}, "mesh file format");
     t.param_bool("binary", true, "binary PLY/STL (ignored for OBJ/OFF)");
     t.param_real("adaptivity", 0.0, "", "mesh adaptivity in [0, 1] (App. A item 22): 0 keeps every polygon").range(0, 1);
-    t.param_bool("vdb", true, "write all fragment grids into fragments.vdb");
-    t.param_bool("preview", true, "render an exploded preview PNG");
+    t.param_choice("displacement", "none", {"none", "continuous", "continuous_and_opening"},
+                   "deformation added to the mesh files (App. A items 24-25): none (material space), the "
+                   "continuous BEM displacement, or that plus the crack-opening displacement");
+    t.param_real("displacement_scale", 1.0, "", "factor on the displacement and opening, e.g. > 1 to exaggerate them "
+                 "for visualisation (not applied to the gap closing)").at_least(0);
+    t.param_bool("remove_compressive_opening", true,
+                 "drop the interpenetrating normal part of the crack opening, [u].n < 0, at every crack vertex "
+                 "before applying it");
+    t.param_bool("close_gaps", false, "move cut-face vertices onto the recorded crack surfaces (App. A item 23); "
+                 "needs the 'cracks' input");
+    t.param_bool("vdb", true, "write all fragment grids into fragments.vdb (undeformed)");
+    t.param_bool("preview", true, "render an exploded preview PNG (undeformed)");
     t.param_real("explode", 0.3, "", "preview: fragments move by this fraction of their centroid offset").range(0, 5);
     t.param_int("width", 640, "preview width [pixels]").range(16, 8192);
     t.param_int("height", 480, "preview height [pixels]").range(16, 8192);
@@ -81,14 +104,50 @@ graph::NodeType export_fragments_node() {
         o.prefix = c.string("prefix");
         if (o.prefix.empty() || o.prefix.find_first_of("/\\") != std::string::npos)
             c.fail("parameter 'prefix': must be a non-empty file name without slashes");
+        const Fragments& fragments = c.in<Fragments>("fragments");
+
+        DeformationOptions d;
+        const std::string mode = c.string("displacement");
+        d.mode = displacement_mode_from_name(mode);
+        d.scale = c.real("displacement_scale");
+        d.remove_compressive_opening = c.boolean("remove_compressive_opening");
+        d.close_gaps = c.boolean("close_gaps");
+        if (d.mode != DisplacementMode::none && !c.has("solution"))
+            c.fail("parameter 'displacement' = " + mode + " needs the input 'solution' (connect solve.sgbem), or set "
+                   "'displacement' to none");
+        if (d.mode == DisplacementMode::continuous_and_opening && !c.has("cracks"))
+            c.fail("parameter 'displacement' = continuous_and_opening needs the input 'cracks' (the crack grids the "
+                   "fragments were cut with): the fine crack surfaces decide which face a vertex is on");
+        if (d.close_gaps && !c.has("cracks"))
+            c.fail("parameter 'close_gaps' = true needs the input 'cracks' (the crack grids the fragments were cut "
+                   "with), or set 'close_gaps' to false");
+        const CrackLevelSets* cracks = c.has("cracks") ? &c.in<CrackLevelSets>("cracks") : nullptr;
+        if (cracks) d.opening_band = cracks->half_width;
+        std::unique_ptr<FragmentDeformation> deformation;
         FragmentExportResult r;
         try {
-            r = export_fragments(c.output_dir(), c.in<Fragments>("fragments"), o);
+            if (o.meshes && (d.mode != DisplacementMode::none || d.close_gaps)) {  // only mesh files are deformed
+                std::shared_ptr<const CoarseDisplacement> coarse;
+                if (d.mode != DisplacementMode::none)
+                    coarse = std::make_shared<const CoarseDisplacement>(
+                        coarse_displacement_from(c.in<bem::BemSolution>("solution"), true));
+                deformation = std::make_unique<FragmentDeformation>(coarse, cracks, fragments.voxel_size, d);
+                o.deformation = deformation.get();
+                c.count("compressive_opening_vertices", double(deformation->compressive_vertices()));
+            }
+            r = export_fragments(c.output_dir(), fragments, o);
         } catch (const std::invalid_argument& e) {
             c.fail(e.what());
         }
         c.count("files", double(r.files.size()));
         c.count("triangles", double(r.triangles));
+        if (o.deformation) {
+            c.count("vertices_on_crack_sheets", double(r.deformation.on_crack));
+            c.count("vertices_opened", double(r.deformation.opened));
+            c.count("vertices_closed", double(r.deformation.closed));
+            c.count("opening_sign_from_coarse_mesh", double(r.deformation.sign_from_coarse));
+            c.count("max_vertex_displacement_m", r.deformation.max_displacement);
+        }
         c.out("directory", c.output_dir().string());
     });
     return t;

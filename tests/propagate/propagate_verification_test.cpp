@@ -25,5 +25,13 @@ TEST(PropagateVerification, PropagationSpeed) {
     std::cout << r.details << "\n";
 }
 
+// Case 8: the whole fracture loop (pipeline) on the edge-cracked cube under mode I.
+TEST(PropagateVerification, EdgeCrackModeOnePlanar) {
+    const VerificationResult r = find_case("edge_crack_mode1_planar").run();
+    EXPECT_TRUE(r.passed) << r.details;
+    EXPECT_LE(r.error, r.tolerance) << r.details;
+    std::cout << r.details << "\n";
+}
+
 }  // namespace
 }  // namespace cf

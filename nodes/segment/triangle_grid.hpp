@@ -1,0 +1,63 @@
+#pragma once
+// Closest-point queries against the coarse (BEM) mesh for the output-mesh deformation of thesis
+// ch. 6.4: a uniform grid of cell size r_c, each cell listing the triangles whose bounding box
+// overlaps it (the thesis uses a coarse OpenVDB grid the same way; a hash map of cells keeps
+// OpenVDB out of this code). A query looks at the cell of x and then at shells of neighbouring
+// cells until no unvisited triangle can be closer than the best one found.
+#include "nodes/levelset/crack_grids.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <vector>
+
+namespace cf {
+
+struct TrianglePoint {
+    Vec3 point = Vec3::Zero();  // closest point on the triangle
+    Vec3 bary = Vec3::Zero();   // its barycentric coordinates (weights of a, b, c), sum 1, all >= 0
+    double distance2 = 0;       // squared distance [m^2]
+};
+
+// Closest point of a (possibly degenerate) triangle to p, by the Voronoi regions of its vertices,
+// edges and face.
+TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+class TriangleGrid {
+public:
+    struct Hit {
+        int triangle = -1;  // index into the triangles given to the constructor; -1: none
+        Vec3 point = Vec3::Zero();
+        Vec3 bary = Vec3::Zero();
+        double distance = std::numeric_limits<double>::infinity();  // [m]
+    };
+
+    // Throws std::invalid_argument when cell_size is not positive and finite, when a vertex is not
+    // finite, or when the triangles would fill more than max_cell_entries cell lists (triangles far
+    // larger than the cells).
+    TriangleGrid(std::vector<Triangle3> triangles, double cell_size, double max_cell_entries = 5e7);
+
+    // The closest triangle to x; ties go to the lower triangle index, so the answer does not depend
+    // on the order cells are visited in. No triangles: triangle == -1.
+    Hit closest(const Vec3& x) const;
+    // Every triangle within `radius` of x, once each, sorted by triangle index.
+    std::vector<Hit> within(const Vec3& x, double radius) const;
+
+    std::size_t size() const { return triangles_.size(); }
+    double cell_size() const { return cell_; }
+    const Triangle3& triangle(int t) const { return triangles_[std::size_t(t)]; }
+
+private:
+    using Cell = std::array<std::int64_t, 3>;
+    Cell cell_of(const Vec3& x) const;
+    static std::uint64_t key(const Cell& c);
+    const std::vector<int>* cell_list(const Cell& c) const;
+    void test(int t, const Vec3& x, Hit& best) const;
+
+    std::vector<Triangle3> triangles_;
+    double cell_ = 0;
+    Cell lo_{}, hi_{};  // occupied cell index range (inclusive)
+    std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
+
+}  // namespace cf

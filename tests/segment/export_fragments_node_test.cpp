@@ -1,0 +1,100 @@
+// export.fragments through the per-node harness: the displacement options reach the mesh files
+// (compared with the plain FragmentDeformation on the same meshes), and a missing input is named.
+#include "graph/node_context.hpp"
+#include "nodes/import/read_mesh.hpp"
+#include "nodes/levelset/crack_grids.hpp"
+#include "nodes/segment/fragment_displacement.hpp"
+#include "nodes/segment/fragments.hpp"
+#include "tests/harness/node_harness.hpp"
+#include "tests/segment/displacement_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+namespace cf::testing {
+namespace {
+
+using namespace displacement_fixture;
+
+struct Cut {
+    CrackLevelSets cracks;
+    Fragments fragments;
+};
+
+const Cut& cut() {
+    static const Cut c = [] {
+        Cut k;
+        k.cracks = CrackLevelSets{kRf, 3, {planar_disk_crack(Vec3(0, 0, kZ0), Vec3::UnitZ(), 1.0, kRf)}};
+        k.fragments = find_fragments(broken_object(cube_grid(), k.cracks));
+        return k;
+    }();
+    return c;
+}
+
+std::string failure(const Params& p, const Inputs& in) {
+    try {
+        run_node("export.fragments", p, in, temp_dir("export-fragments-error"));
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+TEST(ExportFragmentsNode, DeformedMeshFilesMatchTheAlgorithm) {
+    const auto dir = temp_dir("export-fragments-deformed");
+    const Vec3 opening(1e-3, 0, -4e-3);  // compressive: the normal part is removed by default
+    const auto sol = planar_crack_solution(opening);
+    const auto r = run_node("export.fragments",
+                            {{"displacement", std::string("continuous_and_opening")},
+                             {"displacement_scale", 2.0},
+                             {"close_gaps", true},
+                             {"vdb", false},
+                             {"preview", false}},
+                            {{"fragments", value(cut().fragments)}, {"solution", value(*sol)}, {"cracks", value(cut().cracks)}},
+                            dir);
+    EXPECT_EQ(r.counts.at("files"), 2);
+    EXPECT_EQ(r.counts.at("compressive_opening_vertices"), 25);
+    EXPECT_GT(r.counts.at("vertices_closed"), 2.0 * kFaceVertices);
+    DeformationOptions opt;
+    opt.mode = DisplacementMode::continuous_and_opening;
+    opt.scale = 2;
+    opt.close_gaps = true;
+    const FragmentDeformation def(std::make_shared<const CoarseDisplacement>(coarse_displacement_from(*sol)), &cut().cracks,
+                                  kRf, opt);
+    for (std::size_t f = 0; f < 2; ++f) {
+        SurfaceMesh expected = level_set_to_mesh(cut().fragments.fragments[f].grid);
+        def.apply(expected);
+        const SurfaceMesh written = read_mesh(dir / ("fragment_00" + std::to_string(f) + ".obj"));
+        ASSERT_EQ(written.num_vertices(), expected.num_vertices());
+        double err = 0;
+        for (std::size_t i = 0; i < expected.num_vertices(); ++i)
+            err = std::max(err, (written.vertices[i] - expected.vertices[i]).norm());
+        EXPECT_EQ(err, 0.0) << "fragment " << f;  // OBJ carries shortest round-trip doubles
+    }
+}
+
+TEST(ExportFragmentsNode, MissingInputsAreNamed) {
+    const Inputs only_fragments = {{"fragments", value(cut().fragments)}};
+    const Params quiet = {{"vdb", false}, {"preview", false}};
+    auto with = [&](Params p) {
+        p.insert(quiet.begin(), quiet.end());
+        return p;
+    };
+    std::string m = failure(with({{"displacement", std::string("continuous")}}), only_fragments);
+    std::cout << "missing solution: " << m << "\n";
+    EXPECT_NE(m.find("'displacement'"), std::string::npos) << m;
+    EXPECT_NE(m.find("'solution'"), std::string::npos) << m;
+    const auto sol = planar_crack_solution(Vec3(0, 0, 1e-3));
+    m = failure(with({{"displacement", std::string("continuous_and_opening")}}),
+                {{"fragments", value(cut().fragments)}, {"solution", value(*sol)}});
+    EXPECT_NE(m.find("'cracks'"), std::string::npos) << m;
+    m = failure(with({{"close_gaps", true}}), only_fragments);
+    EXPECT_NE(m.find("'close_gaps'"), std::string::npos) << m;
+    EXPECT_NE(m.find("'cracks'"), std::string::npos) << m;
+    m = failure(with({{"displacement_scale", -1.0}}), only_fragments);
+    EXPECT_NE(m.find("displacement_scale"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace cf::testing
