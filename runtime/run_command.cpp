@@ -6,6 +6,7 @@
 #include "nodes/register_all.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/report.hpp"
+#include "runtime/step_table.hpp"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -102,6 +103,7 @@ int run_command(const RunRequest& req) {
         std::fprintf(stderr, "crackflow run: error: %s\n  (report: %s)\n", result.error.c_str(), report.string().c_str());
         return 1;
     }
+    std::fputs(loop_step_tables(plan, result).c_str(), stderr);
     std::fprintf(stderr, "crackflow run: finished in %.2f s; outputs in %s (report: %s)\n", result.wall_seconds,
                  out.string().c_str(), report.string().c_str());
     return 0;
