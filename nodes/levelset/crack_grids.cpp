@@ -9,7 +9,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 namespace cf {
@@ -66,69 +69,233 @@ double distance2_point_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
     return (p - a - t * ab).squaredNorm();
 }
 
-double distance2_robust(const Vec3& p, const Triangle3& t) {
+bool degenerate_triangle(const Triangle3& t) {
     const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
     const double scale = std::max({(t[1] - t[0]).squaredNorm(), (t[2] - t[0]).squaredNorm(), (t[2] - t[1]).squaredNorm()});
-    if (n.squaredNorm() <= 1e-24 * scale * scale || scale == 0)
+    return n.squaredNorm() <= 1e-24 * scale * scale || scale == 0;
+}
+
+double distance2_robust(const Vec3& p, const Triangle3& t, bool degenerate) {
+    if (degenerate)
         return std::min({distance2_point_segment(p, t[0], t[1]), distance2_point_segment(p, t[1], t[2]),
                          distance2_point_segment(p, t[2], t[0])});
     return distance2_point_triangle(p, t[0], t[1], t[2]);
 }
 
-using Accessor = openvdb::FloatGrid::Accessor;
+constexpr int kLeafDim = int(openvdb::FloatTree::LeafNodeType::DIM);  // 8
+constexpr int kLeafSize = int(openvdb::FloatTree::LeafNodeType::SIZE);
 
-// Rasterise one triangle into a crack grid: every voxel whose thickened distance
-// d - sqrt(3) r_f/2 lies below the band limit gets min(old, new). Columns run along the axis
-// closest to the triangle normal, limited to the slab |n.(x - a)| <= reach around the plane.
-std::size_t rasterise_triangle(Accessor& acc, const Triangle3& t, double r_f, double half_width) {
-    const double thick = crack_half_thickness(r_f);
-    const double band = half_width * r_f;
-    const double reach = band + thick;  // d < reach <=> value inside the band
-    Vec3 lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - reach;
-    Vec3 hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + reach;
-    Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
-    const double nn = n.norm();
-    int axis = 2;
-    bool planar = nn > 1e-12 * (hi - lo).squaredNorm();
-    if (planar) {
-        n /= nn;
-        n.cwiseAbs().maxCoeff(&axis);
-    }
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+// One triangle prepared for rasterisation: the voxels it may reach are the box [lo_i, hi_i]
+// (its bounding box grown by the reach), and, for a planar triangle, in each column along the
+// axis closest to its normal only the slab |n.(x - a)| <= reach around its plane.
+struct RasterTriangle {
+    Triangle3 t;
+    bool degenerate = false;
+    Vec3 box_lo, box_hi;  // the triangle's own bounding box [m]: distance lower bound
     openvdb::Coord lo_i, hi_i;
-    for (int a = 0; a < 3; ++a) {
-        lo_i[a] = int(std::floor(lo[a] / r_f));
-        hi_i[a] = int(std::ceil(hi[a] / r_f));
+    int axis = 2, u = 0, v = 1;
+    bool slab = false;
+    Vec3 n = Vec3::Zero();
+    double half = 0;  // slab half-height along `axis` [m]
+
+    RasterTriangle(const Triangle3& tri, double r_f, double reach) : t(tri), degenerate(degenerate_triangle(tri)) {
+        box_lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+        box_hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+        const Vec3 lo = box_lo.array() - reach, hi = box_hi.array() + reach;
+        n = (t[1] - t[0]).cross(t[2] - t[0]);
+        const double nn = n.norm();
+        const bool planar = nn > 1e-12 * (hi - lo).squaredNorm();
+        if (planar) {
+            n /= nn;
+            n.cwiseAbs().maxCoeff(&axis);
+        }
+        u = (axis + 1) % 3;
+        v = (axis + 2) % 3;
+        for (int a = 0; a < 3; ++a) {
+            lo_i[a] = int(std::floor(lo[a] / r_f));
+            hi_i[a] = int(std::ceil(hi[a] / r_f));
+        }
+        slab = planar && std::abs(n[axis]) > 1e-3;
+        half = slab ? reach / std::abs(n[axis]) : 0;
     }
-    std::size_t written = 0;
-    openvdb::Coord ijk;
-    for (int i = lo_i[u]; i <= hi_i[u]; ++i) {
-        for (int j = lo_i[v]; j <= hi_i[v]; ++j) {
-            int k0 = lo_i[axis], k1 = hi_i[axis];
-            if (planar && std::abs(n[axis]) > 1e-3) {
-                // Points with |n.(x - a)| <= reach: an interval along `axis` in this column.
-                Vec3 x;
-                x[u] = i * r_f;
-                x[v] = j * r_f;
-                x[axis] = 0;
-                const double c = n.dot(t[0] - x) / n[axis];  // axis coordinate on the plane
-                const double half = reach / std::abs(n[axis]);
-                k0 = std::max(k0, int(std::floor((c - half) / r_f)));
-                k1 = std::min(k1, int(std::ceil((c + half) / r_f)));
-            }
-            for (int k = k0; k <= k1; ++k) {
+};
+
+// The thickened distances of one leaf-sized block: the smallest squared distance over all
+// triangles whose band reaches each voxel (min is order-independent, so blocks can run in any
+// order and on any thread).
+struct BlockDistances {
+    openvdb::Coord origin;
+    std::array<float, kLeafSize> value;
+    std::array<bool, kLeafSize> touched;
+    std::size_t count = 0;
+};
+
+void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tris, const std::uint32_t* first,
+                     const std::uint32_t* last, double r_f, double thick, double reach) {
+    const double reach2 = reach * reach;
+    // A triangle is skipped for a voxel when its box is farther than the best distance so
+    // far plus a margin far above rounding (so skipping never changes the minimum).
+    const double margin = 1e-9 * reach2;
+    std::array<double, kLeafSize> best;
+    best.fill(reach2);  // only d^2 < reach^2 is in the band
+    const openvdb::Coord o = out.origin;
+    for (const std::uint32_t* it = first; it != last; ++it) {
+        const RasterTriangle& rt = tris[*it];
+        const int u = rt.u, v = rt.v, axis = rt.axis;
+        const int i0 = std::max(rt.lo_i[u], o[u]), i1 = std::min(rt.hi_i[u], o[u] + kLeafDim - 1);
+        const int j0 = std::max(rt.lo_i[v], o[v]), j1 = std::min(rt.hi_i[v], o[v] + kLeafDim - 1);
+        for (int i = i0; i <= i1; ++i) {
+            const double xu = i * r_f;
+            const double du = std::max({rt.box_lo[u] - xu, xu - rt.box_hi[u], 0.0});
+            for (int j = j0; j <= j1; ++j) {
+                const double xv = j * r_f;
+                const double dv = std::max({rt.box_lo[v] - xv, xv - rt.box_hi[v], 0.0});
+                const double duv = du * du + dv * dv;  // box distance across the column
+                if (duv > reach2 + margin) continue;
+                int k0 = rt.lo_i[axis], k1 = rt.hi_i[axis];
+                if (rt.slab) {
+                    // Points with |n.(x - a)| <= reach: an interval along `axis` in this column.
+                    Vec3 x;
+                    x[u] = xu;
+                    x[v] = xv;
+                    x[axis] = 0;
+                    const double c = rt.n.dot(rt.t[0] - x) / rt.n[axis];  // axis coordinate on the plane
+                    k0 = std::max(k0, int(std::floor((c - rt.half) / r_f)));
+                    k1 = std::min(k1, int(std::ceil((c + rt.half) / r_f)));
+                }
+                // And within the reach of the box along the column (one voxel of slack).
+                const double w = std::sqrt(reach2 + margin - duv);
+                k0 = std::max({k0, o[axis], int(std::floor((rt.box_lo[axis] - w) / r_f)) - 1});
+                k1 = std::min({k1, o[axis] + kLeafDim - 1, int(std::ceil((rt.box_hi[axis] + w) / r_f)) + 1});
+                openvdb::Coord ijk;
                 ijk[u] = i;
                 ijk[v] = j;
-                ijk[axis] = k;
-                const Vec3 p(ijk[0] * r_f, ijk[1] * r_f, ijk[2] * r_f);
-                const double d2 = distance2_robust(p, t);
-                if (d2 >= reach * reach) continue;
-                const float value = float(std::sqrt(d2) - thick);
-                const float old = acc.getValue(ijk);
-                if (value < old || !acc.isValueOn(ijk)) acc.setValue(ijk, std::min(value, old));
-                ++written;
+                for (int k = k0; k <= k1; ++k) {
+                    ijk[axis] = k;
+                    const int off = ((ijk[0] - o[0]) * kLeafDim + (ijk[1] - o[1])) * kLeafDim + (ijk[2] - o[2]);
+                    const double xa = k * r_f;
+                    const double da = std::max({rt.box_lo[axis] - xa, xa - rt.box_hi[axis], 0.0});
+                    if (duv + da * da > best[off] + margin) continue;  // the box is already too far
+                    const Vec3 p(ijk[0] * r_f, ijk[1] * r_f, ijk[2] * r_f);
+                    const double d2 = distance2_robust(p, rt.t, rt.degenerate);
+                    if (d2 < best[off]) best[off] = d2;
+                }
             }
         }
+    }
+    out.count = 0;
+    for (int off = 0; off < kLeafSize; ++off) {
+        out.touched[off] = best[off] < reach2;
+        // min_t float(sqrt(d2_t) - thick) == float(sqrt(min_t d2_t) - thick): all steps are monotone.
+        out.value[off] = out.touched[off] ? float(std::sqrt(best[off]) - thick) : 0.0f;
+        out.count += out.touched[off];
+    }
+}
+
+// Union the thickened distance of the triangles into the grid: every voxel whose value
+// d - sqrt(3) r_f/2 lies below the band limit gets min(old, new). Work is split by leaf-sized
+// block: each block gathers the triangles whose reach box overlaps it and keeps the smallest
+// distance per voxel, in parallel (oneTBB); only creating leaves is sequential. The result does
+// not depend on the thread count (min is order-independent). Returns the number of band voxels.
+std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
+                                double half_width) {
+    using LeafT = openvdb::FloatTree::LeafNodeType;
+    const double thick = crack_half_thickness(r_f);
+    const double reach = half_width * r_f + thick;  // d < reach <=> value inside the band
+    std::vector<RasterTriangle> prepared;
+    prepared.reserve(tris.size());
+    for (const Triangle3& t : tris) prepared.emplace_back(t, r_f, reach);
+    // (block, triangle) pairs, sorted by block: each block's triangles in input order.
+    struct Entry {
+        openvdb::Coord block;
+        std::uint32_t tri;
+    };
+    std::vector<Entry> entries;
+    for (std::size_t t = 0; t < prepared.size(); ++t) {
+        const RasterTriangle& rt = prepared[t];
+        const int u = rt.u, v = rt.v, axis = rt.axis;
+        for (int bi = rt.lo_i[u] >> 3; bi <= rt.hi_i[u] >> 3; ++bi)
+            for (int bj = rt.lo_i[v] >> 3; bj <= rt.hi_i[v] >> 3; ++bj) {
+                int k0 = rt.lo_i[axis], k1 = rt.hi_i[axis];
+                if (rt.slab) {
+                    // The slab over this block column: the plane is linear, so its extremes
+                    // are at the column's corners (one voxel of slack for the rounding below).
+                    double c_lo = std::numeric_limits<double>::max(), c_hi = -c_lo;
+                    for (int ci = 0; ci < 2; ++ci)
+                        for (int cj = 0; cj < 2; ++cj) {
+                            Vec3 x;
+                            x[u] = (bi * kLeafDim + ci * (kLeafDim - 1)) * r_f;
+                            x[v] = (bj * kLeafDim + cj * (kLeafDim - 1)) * r_f;
+                            x[axis] = 0;
+                            const double c = rt.n.dot(rt.t[0] - x) / rt.n[axis];
+                            c_lo = std::min(c_lo, c);
+                            c_hi = std::max(c_hi, c);
+                        }
+                    k0 = std::max(k0, int(std::floor((c_lo - rt.half) / r_f)) - 1);
+                    k1 = std::min(k1, int(std::ceil((c_hi + rt.half) / r_f)) + 1);
+                }
+                for (int bk = k0 >> 3; bk <= k1 >> 3; ++bk) {
+                    openvdb::Coord block;
+                    block[u] = bi * kLeafDim;
+                    block[v] = bj * kLeafDim;
+                    block[axis] = bk * kLeafDim;
+                    entries.push_back({block, std::uint32_t(t)});
+                }
+            }
+    }
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+        return a.block < b.block || (a.block == b.block && a.tri < b.tri);
+    });
+    std::vector<std::size_t> starts;
+    for (std::size_t e = 0; e < entries.size(); ++e)
+        if (e == 0 || entries[e].block != entries[e - 1].block) starts.push_back(e);
+    starts.push_back(entries.size());
+    std::vector<std::uint32_t> order(entries.size());
+    for (std::size_t e = 0; e < entries.size(); ++e) order[e] = entries[e].tri;
+    const std::size_t num_blocks = starts.size() - 1;
+    // In batches, so a huge sheet does not hold every block's distances at once.
+    constexpr std::size_t kBatch = 4096;
+    std::vector<BlockDistances> blocks(std::min(num_blocks, kBatch));
+    std::vector<LeafT*> leaves(blocks.size(), nullptr);
+    auto acc = grid.getAccessor();
+    std::size_t written = 0;
+    for (std::size_t first = 0; first < num_blocks; first += kBatch) {
+        const std::size_t count = std::min(kBatch, num_blocks - first);
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t b) {
+            const std::size_t g = first + b;
+            blocks[b].origin = entries[starts[g]].block;
+            rasterise_block(blocks[b], prepared, order.data() + starts[g], order.data() + starts[g + 1], r_f, thick, reach);
+        });
+        // Leaves for the blocks that change anything (sequential: the tree's structure is not
+        // thread-safe). A block in a tile is split into a leaf only if some value goes below
+        // the tile's, or the tile is inactive.
+        for (std::size_t b = 0; b < count; ++b) {
+            const BlockDistances& bd = blocks[b];
+            leaves[b] = nullptr;
+            if (!bd.count) continue;
+            written += bd.count;
+            LeafT* leaf = acc.probeLeaf(bd.origin);
+            if (!leaf) {
+                const float tile = acc.getValue(bd.origin);
+                const bool active = acc.isValueOn(bd.origin);
+                bool change = false;
+                for (int off = 0; off < kLeafSize && !change; ++off)
+                    change = bd.touched[off] && (!active || bd.value[off] < tile);
+                if (change) leaf = acc.touchLeaf(bd.origin);
+            }
+            leaves[b] = leaf;
+        }
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t b) {
+            LeafT* leaf = leaves[b];
+            if (!leaf) return;
+            const BlockDistances& bd = blocks[b];
+            for (int off = 0; off < kLeafSize; ++off) {
+                if (!bd.touched[off]) continue;
+                const float old = leaf->getValue(openvdb::Index(off));
+                if (bd.value[off] < old || !leaf->isValueOn(openvdb::Index(off)))
+                    leaf->setValueOn(openvdb::Index(off), std::min(bd.value[off], old));
+            }
+        });
     }
     return written;
 }
@@ -266,10 +433,7 @@ std::size_t CrackRecorder::add_triangles(int crack, const std::vector<Triangle3>
     for (const Triangle3& t : tris)
         for (const Vec3& p : t)
             if (!p.allFinite()) throw std::invalid_argument("crack triangle with a non-finite coordinate");
-    auto acc = impl_->grids[crack]->getAccessor();
-    std::size_t n = 0;
-    for (const Triangle3& t : tris) n += rasterise_triangle(acc, t, impl_->r_f, impl_->half_width);
-    return n;
+    return rasterise_triangles(*impl_->grids[crack], tris, impl_->r_f, impl_->half_width);
 }
 
 std::vector<std::vector<MarkerTest>> CrackRecorder::record_substep(const std::vector<FrontMotion>& motions,

@@ -68,8 +68,9 @@ public:
     double voxel_size() const;
 
     // Unions the thickened unsigned distance of the triangles into crack c (only voxels within
-    // the band of these triangles are visited). Returns the number of band voxel
-    // evaluations (a voxel near several triangles counts once per triangle).
+    // the band of these triangles are visited; leaf-sized blocks in parallel, oneTBB, results
+    // independent of the thread count). Returns the number of voxels within the band of these
+    // triangles (each voxel counted once, however many triangles reach it).
     std::size_t add_triangles(int crack, const std::vector<Triangle3>& tris);
 
     // One sub-step for all cracks: motions[c] is crack c's front motion (p0 = previous front).

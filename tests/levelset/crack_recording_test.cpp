@@ -118,6 +118,40 @@ TEST(CrackGrid, ParallelRecordingAcrossCracksIsIndependentOfThreadCount) {
     }
 }
 
+TEST(CrackGrid, OneStripRecordedInParallelIsIndependentOfThreadCount) {
+    // One crack, one wide curved strip: its leaf-sized blocks are rasterised in parallel and
+    // merged by min, so 1 and 2 threads must give the same grid. The count is the number of
+    // band voxels, each once: on an empty grid, exactly the voxels it activates.
+    auto run = [](int threads, std::size_t* count) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        FrontMotion m;
+        m.closed = true;
+        for (int i = 0; i < 48; ++i) {
+            const double a = 2 * M_PI * i / 48;
+            m.p0.emplace_back(0.2 * std::cos(a), 0.2 * std::sin(a), 0.02 * std::sin(3 * a));
+            m.p1.emplace_back(0.3 * std::cos(a), 0.3 * std::sin(a), 0.05 * std::sin(3 * a));
+        }
+        CrackRecorder rec(kRf);
+        rec.add_crack();
+        *count = rec.add_triangles(0, strip_triangles(m));
+        return rec.release().cracks[0];
+    };
+    std::size_t n1 = 0, n2 = 0;
+    const LevelSet one = run(1, &n1), two = run(2, &n2);
+    EXPECT_EQ(n1, n2);
+    EXPECT_EQ(n1, active_voxel_count(one));
+    EXPECT_EQ(active_voxel_count(one), active_voxel_count(two));
+    int compared = 0;
+    for (double x = -0.33; x <= 0.33; x += 0.0123)
+        for (double y = -0.33; y <= 0.33; y += 0.0131)
+            for (double z = -0.09; z <= 0.09; z += 0.017) {
+                const double a = sample(one, Vec3(x, y, z)), b = sample(two, Vec3(x, y, z));
+                EXPECT_EQ(a, b) << x << " " << y << " " << z;
+                compared += a < 3 * kRf;
+            }
+    EXPECT_GT(compared, 1000);  // many samples inside the band
+}
+
 TEST(MarkerTest, LeftTheObject) {
     const LevelSet object = level_set_from_mesh(testmesh::box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), kRf);
     EXPECT_EQ(test_marker(&object, {}, -1, Vec3(0.4, 0, 0), Vec3(0.49, 0, 0)).hit, MarkerHit::none);
