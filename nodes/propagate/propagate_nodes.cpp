@@ -56,6 +56,7 @@ graph::NodeType fronts_node() {
     t.param_real("surface_margin", 1, "voxels", "new BEM crack nodes stay this many r_f inside the object").at_least(0);
     t.param_real("crack_margin", 0, "voxels", "new BEM crack nodes stay this many r_f outside other cracks' volumes")
         .at_least(0);
+    t.param_bool("write_vdb", false, "write the crack grids after the step as cracks_step<s>.vdb (App. A item 18)");
     t.param_bool("write_substep_vdb", false,
                  "write the crack grids after every sub-step as cracks_step<s>_sub<k>.vdb (App. A item 19)");
     t.output<propagate::FractureState>("state", "state after the step");
@@ -94,6 +95,11 @@ graph::NodeType fronts_node() {
             r = propagate::propagate_step(s, c.in<std::vector<bem::FrontEdgeSif>>("sifs"), toughness, object, set, observer);
         } catch (const std::invalid_argument& e) {
             c.fail(e.what());
+        }
+        if (c.boolean("write_vdb")) {
+            std::vector<std::pair<std::string, LevelSet>> grids;
+            for (std::size_t i = 0; i < s.grids.cracks.size(); ++i) grids.emplace_back("crack" + std::to_string(i), s.grids.cracks[i]);
+            write_vdb(c.output_dir() / ("cracks_step" + std::to_string(s.step) + ".vdb"), grids);
         }
         c.count("step", s.step);
         c.count("fronts_propagated", r.fronts_propagated);
