@@ -259,29 +259,38 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                 if (interior[v] && !was_dof[v]) fresh.push_back(static_cast<int>(v));
             schur->dof_nodes = old->dof_nodes;
             schur->dof_nodes.insert(schur->dof_nodes.end(), fresh.begin(), fresh.end());
-            const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old->dof_nodes.size());
-            const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
-            const CrackCoupling cn = coupling(sys, cr, fresh);
-            const CrackCoupling co = coupling(sys, cr, old->dof_nodes);
-            const Matrix Zn = solve_matrix(sys, cn.B);
-            const auto io = dofs3(old->dof_nodes), in = dofs3(fresh);
-            Matrix Son = Yfull(io, in) - co.C * Zn;
-            const Matrix Sno = Yfull(in, io) - cn.C * old->Z;
-            Son = 0.5 * (Son + Sno.transpose());
-            Matrix Snn = Yfull(in, in) - cn.C * Zn;
-            Snn = 0.5 * (Snn + Snn.transpose()).eval();
-            const Matrix LnoT = old->L.triangularView<Eigen::Lower>().solve(Son);
-            Snn.noalias() -= LnoT.transpose() * LnoT;
-            Eigen::LLT<Matrix> lnn(Snn);
-            require(lnn.info() == Eigen::Success, "crack Schur complement (eq. 4.3) lost positive definiteness on extension");
-            schur->Z.resize(sys.size(), ko + kn);
-            schur->Z << old->Z, Zn;
-            schur->L = Matrix::Zero(ko + kn, ko + kn);
-            schur->L.topLeftCorner(ko, ko) = old->L;
-            schur->L.bottomLeftCorner(kn, ko) = LnoT.transpose();
-            schur->L.bottomRightCorner(kn, kn) = lnn.matrixL();
-            sol->extended_schur = true;
-            sol->schur_rows_added = static_cast<std::size_t>(kn);
+            if (fresh.empty()) {
+                // No new unknown (the new triangles only touch front nodes): the old factor stands
+                // (and Eigen's triangular solve must not see zero columns).
+                schur->Z = old->Z;
+                schur->L = old->L;
+                sol->extended_schur = true;
+                sol->schur_rows_added = 0;
+            } else {
+                const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old->dof_nodes.size());
+                const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
+                const CrackCoupling cn = coupling(sys, cr, fresh);
+                const CrackCoupling co = coupling(sys, cr, old->dof_nodes);
+                const Matrix Zn = solve_matrix(sys, cn.B);
+                const auto io = dofs3(old->dof_nodes), in = dofs3(fresh);
+                Matrix Son = Yfull(io, in) - co.C * Zn;
+                const Matrix Sno = Yfull(in, io) - cn.C * old->Z;
+                Son = 0.5 * (Son + Sno.transpose());
+                Matrix Snn = Yfull(in, in) - cn.C * Zn;
+                Snn = 0.5 * (Snn + Snn.transpose()).eval();
+                const Matrix LnoT = old->L.triangularView<Eigen::Lower>().solve(Son);
+                Snn.noalias() -= LnoT.transpose() * LnoT;
+                Eigen::LLT<Matrix> lnn(Snn);
+                require(lnn.info() == Eigen::Success, "crack Schur complement (eq. 4.3) lost positive definiteness on extension");
+                schur->Z.resize(sys.size(), ko + kn);
+                schur->Z << old->Z, Zn;
+                schur->L = Matrix::Zero(ko + kn, ko + kn);
+                schur->L.topLeftCorner(ko, ko) = old->L;
+                schur->L.bottomLeftCorner(kn, ko) = LnoT.transpose();
+                schur->L.bottomRightCorner(kn, kn) = lnn.matrixL();
+                sol->extended_schur = true;
+                sol->schur_rows_added = static_cast<std::size_t>(kn);
+            }
         } else {
             for (std::size_t v = 0; v < interior.size(); ++v)
                 if (interior[v]) schur->dof_nodes.push_back(static_cast<int>(v));

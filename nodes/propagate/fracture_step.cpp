@@ -180,6 +180,7 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
         const double w_t = blend_weight(k, n);
         // Forward Euler for every marker of every moving front (eq. 4.11); independent per marker.
         std::map<std::size_t, std::vector<Vec3>> p0, p1;
+        std::map<std::size_t, std::vector<double>> theta;  // angle each marker moved at
         for (std::size_t f : moving) {
             FrontMarkers& fm = state.fronts[f].markers;
             const bool planar = planar_first[f] && k == 0;
@@ -188,8 +189,12 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
             std::vector<Vec3>& b = p1[f];
             a = fm.positions();
             b = a;
+            std::vector<double>& th = theta[f];
+            th.assign(fm.markers.size(), 0.0);
             tbb::parallel_for(std::size_t(0), fm.markers.size(), [&](std::size_t i) {
-                b[i] = a[i] + marker_substep(fm.markers[i], toughness, law, w_t, planar).displacement;
+                const MarkerStep st = marker_substep(fm.markers[i], toughness, law, w_t, planar);
+                b[i] = a[i] + st.displacement;
+                th[i] = st.theta;
             });
         }
         rep.propagate_seconds += seconds_since(t0);
@@ -213,8 +218,13 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
                     MarkerState& m = fm.markers[i];
                     if (!m.active) continue;
                     if (t[i].hit == MarkerHit::none) {
-                        travelled[f][i] += (p1[f][i] - m.position).norm();
+                        const Vec3 d = p1[f][i] - m.position;
+                        travelled[f][i] += d.norm();
                         m.position = p1[f][i];
+                        if (d.squaredNorm() > 0) {  // remembered for eq. (4.12) in the next BEM step
+                            m.last_direction = d.normalized();
+                            m.last_theta = theta[f][i];
+                        }
                         continue;
                     }
                     // Deactivated (fig. 27): the strip up to p1 is recorded so the crack meets the

@@ -1,5 +1,7 @@
 #include "nodes/propagate/marker_motion.hpp"
 
+#include <cmath>
+
 namespace cf::propagate {
 
 namespace {
@@ -35,7 +37,19 @@ MarkerStep marker_substep(const MarkerState& m, const ScalarField& toughness, co
         const Direction cur = optimal_direction(m.K, fc, s.nu, Kc);
         Direction old;  // theta_old = 0 for a new crack; its interval is unknown, so use the current one
         old.valid = cur.valid;
-        if (m.has_old) old = optimal_direction(m.K_old, fc, s.nu, Kc);
+        if (m.has_old) {
+            old = optimal_direction(m.K_old, fc, s.nu, Kc);
+            if (m.last_direction.squaredNorm() > 0) {
+                // The last direction in today's frame; the old valid interval turns with it.
+                const double theta_last = std::atan2(m.last_direction.dot(m.n1), m.last_direction.dot(m.n2));
+                const double turn = theta_last - m.last_theta;
+                old.theta = theta_last;
+                if (!old.valid.empty) {
+                    old.valid.lo += turn;
+                    old.valid.hi += turn;
+                }
+            }
+        }
         const double theta_opt = blend_angle(old.theta, cur.theta, w_t);  // eq. (4.12)
         AngleInterval valid = cur.valid;
         if (!cur.valid.empty && !old.valid.empty) {

@@ -22,13 +22,19 @@ struct MarkerState {
     Sifs K;                                       // interpolated from the current BEM step
     Sifs K_old;                                   // from the previous BEM step
     bool has_old = false;                         // false right after initiation: theta_old = 0
+    // The marker's last propagation direction (unit; zero before its first move) and the angle
+    // it was moved at, in the frame of that time. Eq. (4.12) blends from this direction: the
+    // frames of the next BEM step already follow the kinked crack, so theta_old is this
+    // direction measured in the new frame, not theta*(K_old) (which would kink twice).
+    Vec3 last_direction = Vec3::Zero();
+    double last_theta = 0;
     bool active = true;                           // false once the marker reached a surface
 };
 
 struct MarkerStep {
     Vec3 displacement = Vec3::Zero();  // [m], at most r_f
     double speed = 0;                  // [m/s]
-    double theta = 0;                  // direction used [rad]
+    double theta = 0;                  // direction used [rad], in the marker's frame (n1, n2)
     bool compressive = false;
 };
 

@@ -84,6 +84,13 @@ TEST(BemCracks, AppendOnlyAssemblyAndSchurExtensionMatchFullSolve) {
         ref = std::max(ref, s3->crack_opening[v].norm());
     }
     EXPECT_LT(diff, 1e-9 * ref);
+    // A step that added nothing (the loop's last re-solve): no new rows, the same answer.
+    const auto c4 = append_crack_elements(*o, c2, disk);
+    const auto s4 = solve_sgbem(o, c4, bc, {}, s2.get());
+    EXPECT_TRUE(s4->extended_schur);
+    EXPECT_EQ(s4->schur_rows_added, 0u);
+    for (std::size_t v = 0; v < disk.num_vertices(); ++v)
+        EXPECT_LT((s4->crack_opening[v] - s2->crack_opening[v]).norm(), 1e-12 * ref) << "node " << v;
     // Opening points along +n (tension opens the crack) and front nodes carry none.
     EXPECT_GT(s3->crack_opening[0].z(), 0);
     EXPECT_EQ(s3->crack_opening.back().norm(), 0.0);

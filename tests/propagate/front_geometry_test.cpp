@@ -55,6 +55,12 @@ void expect_flat_up(const SurfaceMesh& m, std::size_t from) {
     }
 }
 
+GrowthSettings growth(double r_c) {
+    GrowthSettings g;
+    g.r_c = r_c;
+    return g;
+}
+
 TEST(CrackFront, ExtractHexagonFrontWithOutwardFrames) {
     const SurfaceMesh h = hexagon(1);
     const auto fronts = extract_fronts(h);
@@ -141,7 +147,7 @@ TEST(FrontGrowth, CaseA_UniformAdvance) {
     SurfaceMesh m = strip();
     const SurfaceMesh before = m;
     const FrontMarkers fm = strip_markers(m, [](const Vec3& p) -> Vec3 { return p - Vec3(0, 0.5, 0); });
-    const FrontGrowth g = grow_front(m, strip_front(), fm, {1.0});
+    const FrontGrowth g = grow_front(m, strip_front(), fm, growth(1.0));
     expect_append_only(before, m);
     expect_flat_up(m, before.num_triangles());
     EXPECT_EQ(g.kept, 4);
@@ -163,7 +169,7 @@ TEST(FrontGrowth, CaseB_SpreadingFrontSplitsEdges) {
     SurfaceMesh m = strip();
     const SurfaceMesh before = m;
     const FrontMarkers fm = strip_markers(m, [](const Vec3& p) { return Vec3(1.6 * p.x(), -0.6, 0); });
-    const FrontGrowth g = grow_front(m, strip_front(), fm, {1.0});
+    const FrontGrowth g = grow_front(m, strip_front(), fm, growth(1.0));
     expect_append_only(before, m);
     expect_flat_up(m, before.num_triangles());
     // Every new edge is 1.6 long: each splits, 3 triangles each.
@@ -186,7 +192,7 @@ TEST(FrontGrowth, CaseC_ConvergingFrontContracts) {
     const SurfaceMesh before = m;
     // Pairs of nodes converge: node positions x -> 2 floor(x/2) + 0.5 +- 0.05 (close pairs).
     const FrontMarkers fm = strip_markers(m, [](const Vec3& p) { return Vec3(0.1 * p.x() + 2, -0.5, 0); });
-    const FrontGrowth g = grow_front(m, strip_front(), fm, {1.0});
+    const FrontGrowth g = grow_front(m, strip_front(), fm, growth(1.0));
     expect_append_only(before, m);
     expect_flat_up(m, before.num_triangles());
     EXPECT_EQ(g.contracted, 2);  // (0,1) and (2,3) merge greedily; (1,2) and (3,4) join merged nodes
@@ -198,7 +204,7 @@ TEST(FrontGrowth, OnlyOneNodeMoves) {
     const SurfaceMesh before = m;
     FrontMarkers fm = place_markers(strip_front(), m, 5);
     for (int k = 8; k <= 12; ++k) fm.markers[k].position -= Vec3(0, 0.5, 0);  // the window of node 2 only
-    const FrontGrowth g = grow_front(m, strip_front(), fm, {1.0});
+    const FrontGrowth g = grow_front(m, strip_front(), fm, growth(1.0));
     expect_append_only(before, m);
     expect_flat_up(m, before.num_triangles());
     EXPECT_EQ(g.added_vertices, 1u);
@@ -235,7 +241,7 @@ TEST(FrontGrowth, ModeIPennyGrowsPlanarWithEdgesInRange) {
     for (int k = 0; k < n; ++k) moved = std::max(moved, advance_markers(fm, Kc, s, k, n, k == 0));
     EXPECT_NEAR(moved, 0.75 * r_f, 1e-15);
     for (const auto& mk : fm.markers) EXPECT_EQ(mk.position.z(), 0.0);
-    const FrontGrowth g = grow_front(m, f, fm, {r_c});
+    const FrontGrowth g = grow_front(m, f, fm, growth(r_c));
     expect_append_only(before, m);
     expect_flat_up(m, before.num_triangles());
     ASSERT_GE(g.front.nodes.size(), 6u);

@@ -67,6 +67,33 @@ TEST(MarkerSubstep, MixedModeTurnsByTheKinkAngleBlendedFromZero) {
     EXPECT_EQ(marker_substep(m, homogeneous(1e6), pmma(), 1.0, true).theta, 0.0);
 }
 
+// Eq. (4.12) blends from the marker's last propagation direction. After a kinked step the new
+// frame follows the kinked crack, so that direction is along the new n2 (theta_old = 0) even
+// though the previous SIFs alone would say theta*(K_old) = -70.5 deg: blending from
+// theta*(K_old) in the new frame would kink a second time.
+TEST(MarkerSubstep, BlendStartsFromTheLastDirectionInTheNewFrame) {
+    MarkerState m;
+    m.n1 = Vec3::UnitZ();
+    m.n2 = Vec3::UnitX();
+    m.K = {3e6, 3e6, 0};  // theta* = -atan(4/3) = -53.13 deg
+    const double th = std::atan(4.0 / 3);
+    m.has_old = true;
+    m.K_old = {0, 3e6, 0};  // pure mode II: theta*(K_old) = -70.53 deg
+    m.last_theta = -1.2309594173407747;
+    m.last_direction = Vec3::UnitX();  // moved along today's n2
+    EXPECT_NEAR(marker_substep(m, homogeneous(1e6), pmma(), 0.0, false).theta, 0.0, 1e-12);
+    EXPECT_NEAR(marker_substep(m, homogeneous(1e6), pmma(), 0.25, false).theta, -0.25 * th, 1e-12);
+    EXPECT_NEAR(marker_substep(m, homogeneous(1e6), pmma(), 1.0, false).theta, -th, 1e-12);
+    // Last moved 30 deg towards +n1 in today's frame: the step starts there.
+    const double a = M_PI / 6;
+    m.last_direction = Vec3(std::cos(a), 0, std::sin(a));
+    EXPECT_NEAR(marker_substep(m, homogeneous(1e6), pmma(), 0.0, false).theta, a, 1e-12);
+    EXPECT_NEAR(marker_substep(m, homogeneous(1e6), pmma(), 0.5, false).theta, 0.5 * a - 0.5 * th, 1e-12);
+    // Without a recorded direction (older state) theta*(K_old) is the fallback.
+    m.last_direction = Vec3::Zero();
+    EXPECT_NEAR(marker_substep(m, homogeneous(1e6), pmma(), 0.0, false).theta, -1.2309594173407747, 1e-9);
+}
+
 TEST(MarkerSubstep, CompressedFrontUsesTransformedSifs) {
     MarkerState m;
     m.K = {-5e6, 0, 0};  // compressive; with f_c = 2: K_I -> 2.5e6

@@ -7,13 +7,17 @@
 #include "graph/executor.hpp"
 #include "graph/pipeline.hpp"
 #include "nodes/bem/displacement_correlation.hpp"
+#include "nodes/fields/closed_form_fields.hpp"
+#include "nodes/levelset/crack_grids.hpp"
 #include "nodes/propagate/fracture_state.hpp"
+#include "nodes/propagate/fracture_step.hpp"
 #include "nodes/propagate/propagation_law.hpp"
 #include "nodes/register_all.hpp"
 #include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -122,6 +126,7 @@ struct FirstKink {
     double theta_geom = 0;    // 2 x the chord angle of the apex's first step in that frame [rad]
     Vec3 chord = Vec3::Zero();  // old apex -> new apex [m]
     double apex_y = 0;        // |y| of the new apex [m]
+    Vec3 e1 = Vec3::Zero(), e2 = Vec3::Zero();  // the apex frame before step 1: forward, normal
 };
 
 // The first step's kink at the apex. For a fresh crack eq. (4.12) blends theta linearly from
@@ -154,6 +159,8 @@ FirstKink first_kink(const Outputs& out, double nu) {
     k.chord = s1.cracks.vertices[a1] - s0.cracks.vertices[a0];
     k.theta_geom = 2 * std::atan2(k.chord.dot(e2), k.chord.dot(e1));
     k.apex_y = std::abs(s1.cracks.vertices[a1].y());
+    k.e1 = e1;
+    k.e2 = e2;
     return k;
 }
 
@@ -188,6 +195,60 @@ TEST(ModeKink, PureModeTwoKinksBy70DegreesTowardsTheStretchedSide) {
     // into the lower half (-z), whatever way the BEM orients the sheet normal.
     EXPECT_LT(k.chord.z(), -0.25 * k.chord.norm()) << "the crack must turn towards -z";
     EXPECT_GT(k.chord.x(), 0.0) << "the crack must keep running forward";
+}
+
+// Eq. (4.12) makes the marker paths continuous across a BEM update: each marker blends from its
+// last propagation direction (w_t = 0 at the first sub-step) to the new theta*. The frames of the
+// next step already follow the kinked sheet, so the last direction has to be measured in them;
+// taking theta*(K_old) there (the old reading) turns the marker a second time, by ~35 deg here.
+// Checked at the apex after the pure mode-II kink: the first sub-step of step 2 (run here with
+// an observer) continues the last sub-step of step 1.
+TEST(ModeKink, MarkerDirectionIsContinuousAcrossTheBemStep) {
+    const std::string bc =
+        "x_min_upper: traction 4e7 0 0; x_min_lower: traction -4e7 0 0; "
+        "x_max_upper: traction -4e7 0 0; x_max_lower: traction 4e7 0 0; *: traction 0 0 0";
+    const Outputs out = run_pipeline(edge_crack_pipeline(bc, 2), "pure_mode2_two_steps");
+    const FirstKink k = first_kink(out, nu);
+    propagate::FractureState s = state_of(out, "propagate1");
+    const int apex = apex_node(s);
+    ASSERT_GE(apex, 0);
+    std::size_t front = 0, marker = 0;
+    bool found = false;
+    for (std::size_t f = 0; f < s.fronts.size() && !found; ++f)
+        for (std::size_t i = 0; i < s.fronts[f].front.nodes.size() && !found; ++i)
+            if (s.fronts[f].front.nodes[i] == apex) {
+                front = f;
+                marker = i * s.fronts[f].markers.per_edge;  // the node's own marker (an anchor of respacing)
+                found = true;
+            }
+    ASSERT_TRUE(found);
+    const propagate::MarkerState before = s.fronts[front].markers.markers.at(marker);
+    ASSERT_TRUE(before.active);
+    ASSERT_GT(before.last_direction.norm(), 0.5) << "step 1 must leave the marker's last direction";
+    // The last sub-step of step 1 ran at theta* (w_t = 1) in step 1's frame: the kink direction.
+    const double last = std::atan2(before.last_direction.dot(k.e2), before.last_direction.dot(k.e1));
+    EXPECT_NEAR(last, k.theta_sif, 3 / deg);
+
+    propagate::StepSettings settings;
+    settings.law.E = 3.1e9;
+    settings.law.nu = nu;
+    settings.law.rho = 1200;
+    settings.surface_margin = 1e-3;
+    const ScalarField toughness =
+        make_field(std::make_shared<HomogeneousField>(1.0e6), FieldQuantity::toughness, 2);
+    const LevelSet& object = out.at("object").at("level_set").get<LevelSet>();
+    const auto& sifs = out.at("sifs1").at("sifs").get<std::vector<bem::FrontEdgeSif>>();
+    Vec3 first = Vec3::Zero();
+    propagate::propagate_step(s, sifs, toughness, &object, settings, [&](int substep, const CrackRecorder&) {
+        if (substep == 0) first = s.fronts[front].markers.markers.at(marker).position - before.position;
+    });
+    ASSERT_GT(first.norm(), 0.0) << "the apex marker must move in step 2";
+    const double turn = std::acos(std::clamp(first.normalized().dot(before.last_direction), -1.0, 1.0));
+    std::cout << "pure mode II: theta* = " << k.theta_sif * deg << " deg; last direction of step 1 at " << last * deg
+              << " deg; first sub-step of step 2 turns by " << turn * deg << " deg\n";
+    // Not exactly 0: the marker frame is re-fitted to the fine front each sub-step, and the
+    // direction's component along the front tangent n3 is not part of theta.
+    EXPECT_LT(turn, 3 / deg);
 }
 
 // Fig. 32 II as in pipelines/edge_crack_mode2.yaml: bottom fixed, top pulled along +x (1e7 Pa).
