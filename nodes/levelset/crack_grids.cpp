@@ -130,14 +130,24 @@ struct BlockDistances {
     std::size_t count = 0;
 };
 
+// `old` is the grid's leaf at this block (null if none): a voxel already holding distance d_old
+// can only change where a new triangle comes closer than d_old, so d_old^2 starts the search and
+// prunes every triangle whose box is farther (behind a growing front, nearly all of them).
 void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tris, const std::uint32_t* first,
-                     const std::uint32_t* last, double r_f, double thick, double reach) {
+                     const std::uint32_t* last, const openvdb::FloatTree::LeafNodeType* old, double r_f, double thick,
+                     double reach) {
     const double reach2 = reach * reach;
     // A triangle is skipped for a voxel when its box is farther than the best distance so
     // far plus a margin far above rounding (so skipping never changes the minimum).
     const double margin = 1e-9 * reach2;
-    std::array<double, kLeafSize> best;
-    best.fill(reach2);  // only d^2 < reach^2 is in the band
+    std::array<double, kLeafSize> start, best;
+    start.fill(reach2);  // only d^2 < reach^2 is in the band
+    if (old)
+        for (auto it = old->cbeginValueOn(); it; ++it) {
+            const double d = double(*it) + thick;
+            start[it.pos()] = d <= 0 ? 0.0 : std::min(reach2, d * d);
+        }
+    best = start;
     const openvdb::Coord o = out.origin;
     for (const std::uint32_t* it = first; it != last; ++it) {
         const RasterTriangle& rt = tris[*it];
@@ -185,7 +195,7 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
     }
     out.count = 0;
     for (int off = 0; off < kLeafSize; ++off) {
-        out.touched[off] = best[off] < reach2;
+        out.touched[off] = best[off] < start[off];  // in the band and closer than before
         // min_t float(sqrt(d2_t) - thick) == float(sqrt(min_t d2_t) - thick): all steps are monotone.
         out.value[off] = out.touched[off] ? float(std::sqrt(best[off]) - thick) : 0.0f;
         out.count += out.touched[off];
@@ -196,7 +206,8 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
 // d - sqrt(3) r_f/2 lies below the band limit gets min(old, new). Work is split by leaf-sized
 // block: each block gathers the triangles whose reach box overlaps it and keeps the smallest
 // distance per voxel, in parallel (oneTBB); only creating leaves is sequential. The result does
-// not depend on the thread count (min is order-independent). Returns the number of band voxels.
+// not depend on the thread count (min is order-independent). Returns the number of voxels set or
+// lowered.
 std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
                                 double half_width) {
     using LeafT = openvdb::FloatTree::LeafNodeType;
@@ -205,10 +216,22 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
     std::vector<RasterTriangle> prepared;
     prepared.reserve(tris.size());
     for (const Triangle3& t : tris) prepared.emplace_back(t, r_f, reach);
-    // (block, triangle) pairs, sorted by block: each block's triangles in input order.
+    // (block, triangle) pairs, sorted by block.
+    // Within a block, triangles nearest its centre come first, so the best distance of most
+    // voxels is found early and the box test prunes the rest.
     struct Entry {
         openvdb::Coord block;
+        float near2;  // squared distance from the block centre to the triangle's box [m^2]
         std::uint32_t tri;
+    };
+    auto near2 = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double c = (block[a] + 0.5 * (kLeafDim - 1)) * r_f;
+            const double d = std::max({rt.box_lo[a] - c, c - rt.box_hi[a], 0.0});
+            d2 += d * d;
+        }
+        return float(d2);
     };
     std::vector<Entry> entries;
     for (std::size_t t = 0; t < prepared.size(); ++t) {
@@ -239,12 +262,13 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
                     block[u] = bi * kLeafDim;
                     block[v] = bj * kLeafDim;
                     block[axis] = bk * kLeafDim;
-                    entries.push_back({block, std::uint32_t(t)});
+                    entries.push_back({block, near2(block, rt), std::uint32_t(t)});
                 }
             }
     }
     std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-        return a.block < b.block || (a.block == b.block && a.tri < b.tri);
+        if (a.block != b.block) return a.block < b.block;
+        return a.near2 < b.near2 || (a.near2 == b.near2 && a.tri < b.tri);
     });
     std::vector<std::size_t> starts;
     for (std::size_t e = 0; e < entries.size(); ++e)
@@ -264,7 +288,8 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t b) {
             const std::size_t g = first + b;
             blocks[b].origin = entries[starts[g]].block;
-            rasterise_block(blocks[b], prepared, order.data() + starts[g], order.data() + starts[g + 1], r_f, thick, reach);
+            rasterise_block(blocks[b], prepared, order.data() + starts[g], order.data() + starts[g + 1],
+                            grid.constTree().probeConstLeaf(blocks[b].origin), r_f, thick, reach);
         });
         // Leaves for the blocks that change anything (sequential: the tree's structure is not
         // thread-safe). A block in a tile is split into a leaf only if some value goes below
@@ -336,13 +361,18 @@ std::vector<Triangle3> strip_triangles(const FrontMotion& m) {
                                     std::to_string(m.p1.size()) + " end positions; they must match");
     std::vector<Triangle3> tris;
     const std::size_t n = m.p0.size();
+    auto still = [&](std::size_t i) { return m.p0[i] == m.p1[i]; };
     if (n == 1) {
-        tris.push_back({m.p0[0], m.p1[0], m.p1[0]});  // a lone marker sweeps a segment
+        if (!still(0)) tris.push_back({m.p0[0], m.p1[0], m.p1[0]});  // a lone marker sweeps a segment
         return tris;
     }
     const std::size_t pairs = m.closed ? n : (n == 0 ? 0 : n - 1);
     for (std::size_t i = 0; i < pairs; ++i) {
         const std::size_t j = (i + 1) % n;
+        // Two stopped markers sweep nothing: their segment is the end edge of an earlier strip.
+        // (Late in a run most markers have stopped; rasterising their segments every sub-step
+        // cost more than the moving part of the front.)
+        if (still(i) && still(j)) continue;
         tris.push_back({m.p0[i], m.p0[j], m.p1[j]});
         tris.push_back({m.p0[i], m.p1[j], m.p1[i]});
     }

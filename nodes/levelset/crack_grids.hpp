@@ -43,7 +43,8 @@ struct MarkerTest {
     double alpha = 1;      // where along p0 -> p1 the hit was found, in (0, 1]
 };
 
-// The strip swept by a front between two sub-steps, as triangles (two per joined marker pair).
+// The strip swept by a front between two sub-steps, as triangles (two per joined marker pair;
+// none for a pair of stopped markers, p1 == p0, whose segment an earlier strip already holds).
 std::vector<Triangle3> strip_triangles(const FrontMotion& m);
 
 // Marker tests of fig. 27 against grids holding the state up to the previous sub-step:
@@ -69,8 +70,8 @@ public:
 
     // Unions the thickened unsigned distance of the triangles into crack c (only voxels within
     // the band of these triangles are visited; leaf-sized blocks in parallel, oneTBB, results
-    // independent of the thread count). Returns the number of voxels within the band of these
-    // triangles (each voxel counted once, however many triangles reach it).
+    // independent of the thread count). Returns the number of voxels it set or lowered (each
+    // counted once, however many triangles reach it): on an empty grid, the band voxels.
     std::size_t add_triangles(int crack, const std::vector<Triangle3>& tris);
 
     // One sub-step for all cracks: motions[c] is crack c's front motion (p0 = previous front).
