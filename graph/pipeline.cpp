@@ -248,6 +248,13 @@ void Loader::apply_override(const Override& o) {
         error(o.loc, "override '" + o.node + "." + o.param + "' names no node", did_you_mean(o.node, all_names()));
         return;
     }
+    if (const auto dot = o.param.find('.'); dot != std::string::npos && find_raw(o.param.substr(0, dot)) >= 0) {
+        // LOOP.NODE.PARAM: names are global, so a body node is addressed on its own.
+        error(o.loc, "override '" + o.node + "." + o.param + "' names node '" + o.param.substr(0, dot) + "' through '" +
+                         o.node + "'",
+              "write " + o.param + ": every node, also inside a loop body, is addressed by its own name");
+        return;
+    }
     YAML::Node value;
     try {
         value = YAML::Load(o.value);

@@ -6,6 +6,7 @@
 #include <openvdb/version.h>
 #include <tbb/version.h>
 
+#include <algorithm>
 #include <ctime>
 #include <sys/resource.h>
 
@@ -30,6 +31,65 @@ static void write_param(graph::JsonWriter& w, const graph::ParamValue& v) {
 static void write_counts(graph::JsonWriter& w, const std::map<std::string, double>& counts) {
     w.begin_object();
     for (const auto& [k, v] : counts) w.key(k).value(v);
+    w.end_object();
+}
+
+// The counts of run r of a node (per-iteration nodes keep one set per run).
+static const std::map<std::string, double>& run_counts(const graph::NodeStats& s, std::size_t r) {
+    return s.iteration_counts.empty() ? s.counts : s.iteration_counts[std::min(r, s.iteration_counts.size() - 1)];
+}
+
+static double count_or(const std::map<std::string, double>& c, const std::string& k) {
+    auto it = c.find(k);
+    return it == c.end() ? 0.0 : it->second;
+}
+
+// A digest for people and scripts: seconds per node type, iterations per loop and, for fracture
+// pipelines, the figures of a thesis table row (BEM steps, elements at the first and last
+// assembly, cracks initiated, fragments). Taken from the nodes' own counts.
+static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const graph::ExecutionResult& result) {
+    std::map<std::string, double> stage_seconds;
+    std::map<std::string, int> loops;
+    int steps = 0;
+    double cracks = -1, fragments = -1;
+    // First and last assembly in time: (start of the run, elements), (end of the run, elements).
+    double first_t = 1e300, last_t = -1, first_n = 0, last_n = 0;
+    for (std::size_t i = 0; i < plan.nodes.size(); ++i) {
+        const graph::NodeStats& s = result.stats[i];
+        if (plan.nodes[i].is_loop()) {
+            loops[plan.nodes[i].name] = s.runs;
+            continue;
+        }
+        stage_seconds[s.type] += s.wall_seconds;
+        for (std::size_t r = 0; r < std::size_t(s.runs); ++r) {
+            const auto& c = run_counts(s, r);
+            if (c.count("cracks_initiated")) cracks = std::max(cracks, c.at("cracks_initiated"));
+            if (s.type == "assemble.sgbem" && r < s.intervals.size()) {
+                const double n = count_or(c, "triangles") + count_or(c, "crack_triangles");
+                if (s.intervals[r].first < first_t) first_t = s.intervals[r].first, first_n = n;
+                if (s.intervals[r].second > last_t) last_t = s.intervals[r].second, last_n = n;
+            }
+        }
+        if (s.type == "propagate.fronts") steps += s.runs;
+        if (s.type == "segment.fragments" && s.runs > 0) fragments = count_or(s.counts, "fragments");
+    }
+    w.key("summary").begin_object();
+    w.key("stage_seconds");
+    write_counts(w, stage_seconds);
+    w.key("loop_iterations").begin_object();
+    for (const auto& [k, v] : loops) w.key(k).value(static_cast<long long>(v));
+    w.end_object();
+    if (last_t >= 0 || steps > 0 || fragments >= 0) {
+        w.key("fracture").begin_object();
+        w.key("bem_steps").value(static_cast<long long>(steps));
+        if (last_t >= 0) {
+            w.key("elements_start").value(static_cast<long long>(first_n));
+            w.key("elements_end").value(static_cast<long long>(last_n));
+        }
+        if (cracks >= 0) w.key("cracks_initiated").value(static_cast<long long>(cracks));
+        if (fragments >= 0) w.key("fragments").value(static_cast<long long>(fragments));
+        w.end_object();
+    }
     w.end_object();
 }
 
@@ -58,6 +118,7 @@ std::string report_json(const graph::Plan& plan, const graph::ExecutionResult& r
     w.key("openvdb").value(OPENVDB_LIBRARY_VERSION_STRING);
     w.end_object();
     w.key("wall_seconds").value(result.wall_seconds);
+    if (result.stats.size() == plan.nodes.size()) write_summary(w, plan, result);
     w.key("peak_rss_bytes").value(static_cast<long long>(u.ru_maxrss) * 1024);
     w.key("nodes").begin_array();
     for (std::size_t i = 0; i < plan.nodes.size(); ++i) {

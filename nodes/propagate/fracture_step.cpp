@@ -258,6 +258,7 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
                 if (static_cast<int>(c) != own && sample(grids_now[c], p) < settings.crack_margin) return false;
             return true;
         };
+        if (object) gs.inside = [&](const Vec3& p) { return sample(*object, p) < 0; };
         const FrontGrowth g = grow_front(state.cracks, fs.front, fs.markers, gs);
         fs.front = g.front;
         fs.markers = g.markers;

@@ -189,7 +189,15 @@ FrontGrowth grow_front(SurfaceMesh& cracks, const CrackFront& front, const Front
             const double quality = sum > 0 ? 2 * std::sqrt(3.0) * nrm.norm() / sum : 0;
             const Vec3& ref = edge_normal[triangle_edge[t - t0]];
             const bool oriented = ref.squaredNorm() == 0 || nrm.normalized().dot(ref) >= s.min_normal_dot;
-            if (quality >= s.min_quality && oriented) continue;
+            bool crosses = false;  // a lattice point outside the object
+            if (s.inside)
+                for (int i = 0; i <= 4 && !crosses; ++i)
+                    for (int j = 0; i + j <= 4 && !crosses; ++j) {
+                        const int k = 4 - i - j;
+                        if (i == 4 || j == 4 || k == 4) continue;  // the corners: nodes are checked on their own
+                        crosses = !s.inside((i * a + j * b + k * c) / 4.0);
+                    }
+            if (quality >= s.min_quality && oriented && !crosses) continue;
             for (int v : tri) {
                 if (v < static_cast<int>(v0)) continue;
                 const std::size_t k = static_cast<std::size_t>(v) - v0;

@@ -28,6 +28,11 @@ struct GrowthSettings {
     // the ordinary surface or another crack than the BEM quadrature tolerates; a node whose
     // target is rejected stays on the front, a split whose midpoint is rejected is not made.
     std::function<bool(const Vec3&)> admissible;
+    // Whether a point lies inside the object (empty: everywhere). Every new triangle is sampled on
+    // a barycentric lattice (spacing 1/4) away from its corners; a triangle with a sample outside
+    // crosses a concave part of the surface (a notch between two admissible nodes) and is undone
+    // like a folded one: its new nodes stay on the front this step.
+    std::function<bool(const Vec3&)> inside;
 };
 
 struct FrontGrowth {

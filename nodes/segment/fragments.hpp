@@ -41,6 +41,12 @@ struct SegmentOptions {
 // Throws std::invalid_argument when s is outside [0, r_f], with the reason.
 Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options = {});
 
+// Removes fragments whose volume is below min_volume [m^3] (specks: slivers where two cracks
+// pass close together or a crack runs along the surface); keeps the order. Returns how many were
+// removed and adds their volume to *removed_volume if given. Throws std::invalid_argument for a
+// negative or non-finite min_volume.
+std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume = nullptr);
+
 // d = round(1 + s / r_f): the ring of outside voxels copied around an over-segmented fragment.
 int over_segmentation_ring(double s, double r_f);
 

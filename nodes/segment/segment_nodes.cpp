@@ -17,13 +17,18 @@ graph::NodeType fragments_node() {
                       "Cuts the object by all cracks (eq. 6.1) and splits it into fragments: connected components of "
                       "inside voxels (26-neighbourhood) and inside tiles (tile-aware, keeps interior cracks), after "
                       "over-segmenting by s to remove spindles thinner than s (ch. 6.3, listing 1). Fragments are "
-                      "sorted by volume, largest first; writes fragments.csv and fragments.json.");
+                      "sorted by volume, largest first, those below min_volume dropped; writes fragments.csv and "
+                      "fragments.json.");
     t.input<LevelSet>("object", "object signed distance grid (levelset.from_mesh)");
     t.optional_input<CrackLevelSets>("cracks", "crack grids (same voxel size); none: the object is one fragment");
     t.param_real("s", -1, "m",
                  "over-segmentation threshold s in [0, r_f]; -1 means s = r_f (thesis default). Larger values "
                  "would lose surface detail and are rejected");
     t.param_bool("tiles", true, "tile-aware search (needed to keep cracks deep inside the object)");
+    t.param_real("min_volume", 0, "m^3",
+                 "drop fragments smaller than this (specks where cracks pass close together or run along the "
+                 "surface); 0 keeps every fragment")
+        .range(0, 1e30);
     t.param_bool("write_listing", true, "write fragments.csv and fragments.json into the output directory");
     t.output<Fragments>("fragments", "fragment grids with volume [m^3], bbox [m], centroid [m]");
     t.run([](graph::NodeContext& c) {
@@ -35,6 +40,9 @@ graph::NodeType fragments_node() {
             const double s = c.real("s");
             if (s < 0 && s != -1) c.fail("parameter 's': " + std::to_string(s) + " m is negative; use -1 for s = r_f or a value in [0, r_f]");
             f = find_fragments(broken, SegmentOptions{s, c.boolean("tiles")});
+            double dropped_volume = 0;
+            c.count("dropped_fragments", double(drop_small_fragments(f, c.real("min_volume"), &dropped_volume)));
+            c.count("dropped_volume_m3", dropped_volume);
         } catch (const std::invalid_argument& e) {
             c.fail(e.what());
         }

@@ -138,6 +138,38 @@ fast:
     EXPECT_DOUBLE_EQ(std::get<double>(quick.nodes[0].params.at("value")), 7.0);
 }
 
+// A node inside a loop body is overridden by its own name (names are global); the loop-qualified
+// spelling LOOP.NODE.PARAM gets an error that says so.
+TEST(PipelineValidation, FastOverridesReachLoopBodies) {
+    const std::string body = R"(nodes:
+  zero: {type: core.real}
+  count:
+    type: loop
+    params: {max_iterations: 3}
+    inputs: {n: zero.value}
+    body:
+      hold: {type: core.wait, inputs: {value: count.n}, params: {seconds: 0}}
+      inc: {type: core.add, inputs: {a: hold.value, b: count.n}}
+    next: {n: inc.sum}
+fast:
+)";
+    LoadOptions fast;
+    fast.fast = true;
+    std::vector<Diagnostic> diags;
+    const Plan quick = load_text(body + "  hold.seconds: 0.5\n", diags, fast);
+    ASSERT_TRUE(diags.empty()) << all(diags);
+    bool found = false;
+    for (const auto& n : quick.nodes)
+        if (n.name == "hold") {
+            EXPECT_DOUBLE_EQ(std::get<double>(n.params.at("seconds")), 0.5);
+            found = true;
+        }
+    EXPECT_TRUE(found);
+    load_text(body + "  count.hold.seconds: 0.5\n", diags, fast);
+    EXPECT_TRUE(has(diags, "override 'count.hold.seconds' names node 'hold' through 'count'")) << all(diags);
+    EXPECT_TRUE(has(diags, "write hold.seconds:")) << all(diags);
+}
+
 TEST(PipelineValidation, LoopScopingRules) {
     std::vector<Diagnostic> diags;
     load_text(R"(nodes:

@@ -143,6 +143,33 @@ FrontMarkers strip_markers(const SurfaceMesh& m, const std::function<Vec3(const 
     return fm;
 }
 
+// A notch of the surface reaching in between two front nodes: both targets are admissible, but
+// the new triangles over the notch would cross the surface, so the nodes next to it stay.
+TEST(FrontGrowth, TrianglesCrossingAConcaveSurfaceAreNotMade) {
+    SurfaceMesh m = strip();
+    const SurfaceMesh before = m;
+    const FrontMarkers fm = strip_markers(m, [](const Vec3& p) -> Vec3 { return p - Vec3(0, 0.8, 0); });
+    GrowthSettings free = growth(1.0);
+    SurfaceMesh m_free = m;
+    const FrontGrowth all = grow_front(m_free, strip_front(), fm, free);
+    EXPECT_EQ(all.added_triangles, 8u);  // every node moves: two triangles per edge (case a)
+    // The notch: x in (1.3, 1.7), y in (-0.6, -0.2), outside the object; no node lies in it.
+    GrowthSettings notched = growth(1.0);
+    notched.inside = [](const Vec3& p) { return !(p.x() > 1.3 && p.x() < 1.7 && p.y() > -0.6 && p.y() < -0.2); };
+    const FrontGrowth g = grow_front(m, strip_front(), fm, notched);
+    expect_append_only(before, m);
+    for (std::size_t t = before.num_triangles(); t < m.num_triangles(); ++t) {
+        const Tri& tri = m.triangles[t];
+        for (int i = 0; i <= 8; ++i)
+            for (int j = 0; i + j <= 8; ++j) {
+                const Vec3 p = (i * m.vertices[tri[0]] + j * m.vertices[tri[1]] + (8 - i - j) * m.vertices[tri[2]]) / 8.0;
+                EXPECT_TRUE(notched.inside(p)) << "triangle " << t << " reaches into the notch at " << p.transpose();
+            }
+    }
+    EXPECT_LT(g.added_triangles, all.added_triangles);
+    EXPECT_GT(g.added_triangles, 0u);  // away from the notch the front still grows
+}
+
 TEST(FrontGrowth, CaseA_UniformAdvance) {
     SurfaceMesh m = strip();
     const SurfaceMesh before = m;

@@ -7,6 +7,7 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -91,6 +92,46 @@ TEST(Cli, RunWritesReportWithPerNodeTimesCountsAndVersions) {
     double v = 0;
     f >> v;
     EXPECT_DOUBLE_EQ(v, 2.0);
+}
+
+// The report's summary restates the per-node figures as a thesis table row: BEM steps, elements
+// at the first and last assembly, fragments, seconds per node type.
+TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
+    auto dir = cf::testing::temp_dir("cli-fracture-report");
+    Outcome o = run_cli("run " + src("pipelines/edge_crack_mode1.yaml") + " --fast --out " + dir.string());
+    ASSERT_EQ(o.code, 0) << o.output;
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+    const YAML::Node summary = report["summary"];
+    ASSERT_TRUE(summary["fracture"].IsMap()) << "no fracture summary";
+    double elements_start = -1, elements_end = -1, fragments = -1, seconds = 0;
+    int propagate_runs = -1, loop_runs = -1;
+    std::map<std::string, double> by_type;
+    for (const auto& n : report["nodes"]) {
+        const std::string name = n["name"].as<std::string>(), type = n["type"].as<std::string>();
+        if (type != "loop") by_type[type] += n["wall_seconds"].as<double>();
+        if (name == "assemble0")
+            elements_start = n["counts"]["triangles"].as<double>() + n["counts"]["crack_triangles"].as<double>();
+        if (name == "assemble") {
+            const YAML::Node last = n["iteration_counts"][n["iteration_counts"].size() - 1];
+            elements_end = last["triangles"].as<double>() + last["crack_triangles"].as<double>();
+        }
+        if (name == "propagate") propagate_runs = n["runs"].as<int>();
+        if (name == "fracture") loop_runs = n["runs"].as<int>();
+        if (name == "fragments") fragments = n["counts"]["fragments"].as<double>();
+    }
+    const YAML::Node f = summary["fracture"];
+    EXPECT_EQ(f["bem_steps"].as<int>(), propagate_runs);
+    EXPECT_EQ(summary["loop_iterations"]["fracture"].as<int>(), loop_runs);
+    EXPECT_EQ(f["elements_start"].as<double>(), elements_start);
+    EXPECT_EQ(f["elements_end"].as<double>(), elements_end);
+    EXPECT_GT(elements_end, elements_start) << "the crack must have grown";
+    EXPECT_EQ(f["fragments"].as<double>(), fragments);
+    EXPECT_EQ(fragments, 2.0) << "the mode-I edge crack splits the cube";
+    for (const auto& [type, sec] : by_type) {
+        EXPECT_NEAR(summary["stage_seconds"][type].as<double>(), sec, 1e-9 + 1e-12 * sec) << type;
+        seconds += sec;
+    }
+    EXPECT_LE(seconds, 2 * report["wall_seconds"].as<double>() + 1.0);  // 2 threads at most
 }
 
 TEST(Cli, CtrlCCancelsCleanly) {

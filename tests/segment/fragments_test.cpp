@@ -67,6 +67,24 @@ TEST(Fragments, PlanarCutVolumesCentroidsAndBoxesMatchTheHalves) {
     EXPECT_GT(sample(f.fragments[1].grid, Vec3(0, 0, -0.3)), 0);
 }
 
+TEST(Fragments, SpecksBelowTheMinimumVolumeAreDropped) {
+    const double z = 0.031;
+    const LevelSet obj = cube();
+    Fragments f = find_fragments(broken_object(obj, {kRf, 3, {planar_disk_crack(Vec3(0, 0, z), Vec3::UnitZ(), 1, kRf)}}));
+    ASSERT_EQ(f.fragments.size(), 2u);
+    const double big = f.fragments[0].volume, small = f.fragments[1].volume;
+    ASSERT_LT(small, big);
+    Fragments keep = f;
+    EXPECT_EQ(drop_small_fragments(keep, 0.0), 0u);  // 0 keeps everything
+    EXPECT_EQ(keep.fragments.size(), 2u);
+    double removed = 0;
+    EXPECT_EQ(drop_small_fragments(f, 0.5 * (small + big), &removed), 1u);
+    ASSERT_EQ(f.fragments.size(), 1u);
+    EXPECT_EQ(f.fragments[0].volume, big);
+    EXPECT_EQ(removed, small);  // the volume accounted for exactly
+    EXPECT_THROW(drop_small_fragments(f, -1.0), std::invalid_argument);
+}
+
 TEST(Fragments, WithoutTilesTheInteriorCrackIsLost) {
     // r_f = 0.01 m: the crack's leaves (radius 0.1 m) are separated from the surface's leaves by
     // interior tiles, so only the tile-aware search can connect them.
