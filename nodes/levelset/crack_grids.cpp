@@ -7,6 +7,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -233,6 +234,17 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
         }
         return float(d2);
     };
+    // Squared gap between a block's voxel-centre box and the triangle's box [m^2].
+    auto box_gap2 = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = block[a] * r_f, hi = (block[a] + kLeafDim - 1) * r_f;
+            const double d = std::max({rt.box_lo[a] - hi, lo - rt.box_hi[a], 0.0});
+            d2 += d * d;
+        }
+        return d2;
+    };
+    const double reach2_slack = reach * reach * (1 + 1e-9);
     std::vector<Entry> entries;
     for (std::size_t t = 0; t < prepared.size(); ++t) {
         const RasterTriangle& rt = prepared[t];
@@ -262,11 +274,15 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
                     block[u] = bi * kLeafDim;
                     block[v] = bj * kLeafDim;
                     block[axis] = bk * kLeafDim;
+                    // Blocks in the corners of the reach box lie farther than the reach from the
+                    // triangle's own box: nothing there can enter the band.
+                    if (box_gap2(block, rt) > reach2_slack) continue;
                     entries.push_back({block, near2(block, rt), std::uint32_t(t)});
                 }
             }
     }
-    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    // A total order, so the parallel sort's result does not depend on the thread count.
+    tbb::parallel_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
         if (a.block != b.block) return a.block < b.block;
         return a.near2 < b.near2 || (a.near2 == b.near2 && a.tri < b.tri);
     });
@@ -481,8 +497,9 @@ std::vector<std::vector<MarkerTest>> CrackRecorder::record_substep(const std::ve
     tbb::parallel_for(std::size_t(0), motions.size(), [&](std::size_t c) {
         const FrontMotion& m = motions[c];
         tests[c].resize(m.p0.size());
-        for (std::size_t i = 0; i < m.p0.size(); ++i)
+        tbb::parallel_for(std::size_t(0), m.p0.size(), [&](std::size_t i) {
             if (m.p0[i] != m.p1[i]) tests[c][i] = test_marker(object, views, int(c), m.p0[i], m.p1[i]);
+        });
     });
     views.clear();
     // Phase 2: each crack writes only its own grid, so cracks run in parallel.
