@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+#include <variant>
 
 namespace {
 
@@ -30,6 +32,15 @@ TEST_P(ShippedPipeline, ValidatesAndRunsInFastMode) {
     std::string text;
     for (const auto& d : diags) text += cf::graph::format(d) + "\n";
     ASSERT_TRUE(diags.empty()) << text;
+    // Pipelines on libcgal-demo's meshes (armadillo_tearing): CMake extracts them next to this
+    // test when the package is installed (setup.sh installs it); without it the case is skipped.
+    for (const auto& n : plan.nodes)
+        if (n.type && n.type->name() == "import.mesh") {
+            const std::string path = std::get<std::string>(n.params.at("path"));
+            if (path.rfind("data/meshes/", 0) == 0 && !std::filesystem::exists(path))
+                GTEST_SKIP() << path << " not found: install the Debian package libcgal-demo (it ships data.tar.gz "
+                             << "with the mesh) and re-run cmake";
+        }
     cf::graph::RunOptions run;
     run.fast = true;
     run.output_dir = cf::testing::temp_dir("pipeline-" + GetParam().stem().string());
