@@ -171,13 +171,14 @@ constexpr double nu = 0.327;
 constexpr double kink_tolerance = 3 / deg;
 
 // Pure mode II (Neumann): the upper half of the cracked face x_min pushed in (+x), the lower half
-// pulled out (-x), 4e7 Pa; the mirrored pair on x_max cancels the torque about y. The upper crack
-// face slides forward over the lower one, K_II > 0, K_I ~ 0.
+// pulled out (-x), 4e7 Pa; the mirrored pair on x_max cancels the torque about y.
+const std::string kPureModeTwo =
+    "x_min_upper: traction 4e7 0 0; x_min_lower: traction -4e7 0 0; "
+    "x_max_upper: traction -4e7 0 0; x_max_lower: traction 4e7 0 0; *: traction 0 0 0";
+
+// Under kPureModeTwo the upper crack face slides forward over the lower one, K_II > 0, K_I ~ 0.
 TEST(ModeKink, PureModeTwoKinksBy70DegreesTowardsTheStretchedSide) {
-    const std::string bc =
-        "x_min_upper: traction 4e7 0 0; x_min_lower: traction -4e7 0 0; "
-        "x_max_upper: traction -4e7 0 0; x_max_lower: traction 4e7 0 0; *: traction 0 0 0";
-    const Outputs out = run_pipeline(edge_crack_pipeline(bc, 1), "pure_mode2");
+    const Outputs out = run_pipeline(edge_crack_pipeline(kPureModeTwo, 1), "pure_mode2");
     const FirstKink k = first_kink(out, nu);
     std::cout << "pure mode II: K_I = " << k.KI << ", K_II = " << k.KII << " Pa sqrt(m); theta*(SIFs) = "
               << k.theta_sif * deg << " deg; geometric kink = " << k.theta_geom * deg << " deg; chord = ("
@@ -204,10 +205,7 @@ TEST(ModeKink, PureModeTwoKinksBy70DegreesTowardsTheStretchedSide) {
 // Checked at the apex after the pure mode-II kink: the first sub-step of step 2 (run here with
 // an observer) continues the last sub-step of step 1.
 TEST(ModeKink, MarkerDirectionIsContinuousAcrossTheBemStep) {
-    const std::string bc =
-        "x_min_upper: traction 4e7 0 0; x_min_lower: traction -4e7 0 0; "
-        "x_max_upper: traction -4e7 0 0; x_max_lower: traction 4e7 0 0; *: traction 0 0 0";
-    const Outputs out = run_pipeline(edge_crack_pipeline(bc, 2), "pure_mode2_two_steps");
+    const Outputs out = run_pipeline(edge_crack_pipeline(kPureModeTwo, 2), "pure_mode2_two_steps");
     const FirstKink k = first_kink(out, nu);
     propagate::FractureState s = state_of(out, "propagate1");
     const int apex = apex_node(s);
