@@ -30,12 +30,18 @@ const char* to_string(MarkerHit h) {
 
 namespace {
 
-// Squared distance from p to triangle abc (closest-point regions, Ericson, RTCD 5.1.5).
-double distance2_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+// Squared distance from p to triangle abc (closest-point regions, Ericson, RTCD 5.1.5), with
+// the edge vectors computed once per triangle (the rasteriser evaluates it at many voxels).
+struct PreparedTriangle {
+    Vec3 a, b, c, ab, ac, bc;
+};
+double distance2_prepared(const Vec3& p, const PreparedTriangle& t) {
+    const Vec3& ab = t.ab;
+    const Vec3& ac = t.ac;
+    const Vec3 ap = p - t.a;
     const double d1 = ab.dot(ap), d2 = ac.dot(ap);
     if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();
-    const Vec3 bp = p - b;
+    const Vec3 bp = p - t.b;
     const double d3 = ab.dot(bp), d4 = ac.dot(bp);
     if (d3 >= 0 && d4 <= d3) return bp.squaredNorm();
     const double vc = d1 * d4 - d3 * d2;
@@ -43,7 +49,7 @@ double distance2_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
         const double v = d1 / (d1 - d3);
         return (ap - v * ab).squaredNorm();
     }
-    const Vec3 cp = p - c;
+    const Vec3 cp = p - t.c;
     const double d5 = ab.dot(cp), d6 = ac.dot(cp);
     if (d6 >= 0 && d5 <= d6) return cp.squaredNorm();
     const double vb = d5 * d2 - d1 * d6;
@@ -54,11 +60,15 @@ double distance2_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
     const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
         const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (bp - w * (c - b)).squaredNorm();
+        return (bp - w * t.bc).squaredNorm();
     }
     const double denom = 1 / (va + vb + vc);
     const double v = vb * denom, w = vc * denom;
     return (ap - ab * v - ac * w).squaredNorm();
+}
+
+double distance2_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    return distance2_prepared(p, PreparedTriangle{a, b, c, b - a, c - a, c - b});
 }
 
 // Degenerate triangles (a deactivated marker next to another: p0 == p1) still contribute
@@ -91,6 +101,7 @@ constexpr int kLeafSize = int(openvdb::FloatTree::LeafNodeType::SIZE);
 // axis closest to its normal only the slab |n.(x - a)| <= reach around its plane.
 struct RasterTriangle {
     Triangle3 t;
+    PreparedTriangle pt;
     bool degenerate = false;
     Vec3 box_lo, box_hi;  // the triangle's own bounding box [m]: distance lower bound
     openvdb::Coord lo_i, hi_i;
@@ -98,8 +109,13 @@ struct RasterTriangle {
     bool slab = false;
     Vec3 n = Vec3::Zero();
     double half = 0;  // slab half-height along `axis` [m]
+    // The plane over a column: axis coordinate c = c0 + cu x_u + cv x_v [m].
+    double c0 = 0, cu = 0, cv = 0;
 
-    RasterTriangle(const Triangle3& tri, double r_f, double reach) : t(tri), degenerate(degenerate_triangle(tri)) {
+    RasterTriangle(const Triangle3& tri, double r_f, double reach)
+        : t(tri),
+          pt{tri[0], tri[1], tri[2], tri[1] - tri[0], tri[2] - tri[0], tri[2] - tri[1]},
+          degenerate(degenerate_triangle(tri)) {
         box_lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
         box_hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
         const Vec3 lo = box_lo.array() - reach, hi = box_hi.array() + reach;
@@ -118,6 +134,11 @@ struct RasterTriangle {
         }
         slab = planar && std::abs(n[axis]) > 1e-3;
         half = slab ? reach / std::abs(n[axis]) : 0;
+        if (slab) {
+            c0 = n.dot(t[0]) / n[axis];
+            cu = -n[u] / n[axis];
+            cv = -n[v] / n[axis];
+        }
     }
 };
 
@@ -125,6 +146,9 @@ struct RasterTriangle {
 // triangles whose band reaches each voxel (min is order-independent, so blocks can run in any
 // order and on any thread).
 struct BlockDistances {
+    // User-provided, so std::vector<BlockDistances>(n) does not zero ~2.6 kB per block (every
+    // field is written by rasterise_block before it is read).
+    BlockDistances() {}
     openvdb::Coord origin;
     std::array<float, kLeafSize> value;
     std::array<bool, kLeafSize> touched;
@@ -150,45 +174,49 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
         }
     best = start;
     const openvdb::Coord o = out.origin;
+    const double inv = 1 / r_f;
+    // Voxel-centre coordinates of this block along each axis [m], and the offset strides.
+    std::array<std::array<double, kLeafDim>, 3> xs;
+    for (int a = 0; a < 3; ++a)
+        for (int q = 0; q < kLeafDim; ++q) xs[a][q] = (o[a] + q) * r_f;
+    constexpr int stride[3] = {kLeafDim * kLeafDim, kLeafDim, 1};
     for (const std::uint32_t* it = first; it != last; ++it) {
         const RasterTriangle& rt = tris[*it];
         const int u = rt.u, v = rt.v, axis = rt.axis;
         const int i0 = std::max(rt.lo_i[u], o[u]), i1 = std::min(rt.hi_i[u], o[u] + kLeafDim - 1);
         const int j0 = std::max(rt.lo_i[v], o[v]), j1 = std::min(rt.hi_i[v], o[v] + kLeafDim - 1);
+        const double lo_a = rt.box_lo[axis], hi_a = rt.box_hi[axis];
         for (int i = i0; i <= i1; ++i) {
-            const double xu = i * r_f;
+            const double xu = xs[u][i - o[u]];
             const double du = std::max({rt.box_lo[u] - xu, xu - rt.box_hi[u], 0.0});
             for (int j = j0; j <= j1; ++j) {
-                const double xv = j * r_f;
+                const double xv = xs[v][j - o[v]];
                 const double dv = std::max({rt.box_lo[v] - xv, xv - rt.box_hi[v], 0.0});
                 const double duv = du * du + dv * dv;  // box distance across the column
                 if (duv > reach2 + margin) continue;
                 int k0 = rt.lo_i[axis], k1 = rt.hi_i[axis];
                 if (rt.slab) {
                     // Points with |n.(x - a)| <= reach: an interval along `axis` in this column.
-                    Vec3 x;
-                    x[u] = xu;
-                    x[v] = xv;
-                    x[axis] = 0;
-                    const double c = rt.n.dot(rt.t[0] - x) / rt.n[axis];  // axis coordinate on the plane
-                    k0 = std::max(k0, int(std::floor((c - rt.half) / r_f)));
-                    k1 = std::min(k1, int(std::ceil((c + rt.half) / r_f)));
+                    const double c = rt.c0 + rt.cu * xu + rt.cv * xv;  // axis coordinate on the plane
+                    k0 = std::max(k0, int(std::floor((c - rt.half) * inv)));
+                    k1 = std::min(k1, int(std::ceil((c + rt.half) * inv)));
                 }
                 // And within the reach of the box along the column (one voxel of slack).
                 const double w = std::sqrt(reach2 + margin - duv);
-                k0 = std::max({k0, o[axis], int(std::floor((rt.box_lo[axis] - w) / r_f)) - 1});
-                k1 = std::min({k1, o[axis] + kLeafDim - 1, int(std::ceil((rt.box_hi[axis] + w) / r_f)) + 1});
-                openvdb::Coord ijk;
-                ijk[u] = i;
-                ijk[v] = j;
+                k0 = std::max({k0, o[axis], int(std::floor((lo_a - w) * inv)) - 1});
+                k1 = std::min({k1, o[axis] + kLeafDim - 1, int(std::ceil((hi_a + w) * inv)) + 1});
+                if (k0 > k1) continue;
+                const int base = (i - o[u]) * stride[u] + (j - o[v]) * stride[v] - o[axis] * stride[axis];
+                Vec3 p;
+                p[u] = xu;
+                p[v] = xv;
                 for (int k = k0; k <= k1; ++k) {
-                    ijk[axis] = k;
-                    const int off = ((ijk[0] - o[0]) * kLeafDim + (ijk[1] - o[1])) * kLeafDim + (ijk[2] - o[2]);
-                    const double xa = k * r_f;
-                    const double da = std::max({rt.box_lo[axis] - xa, xa - rt.box_hi[axis], 0.0});
+                    const int off = base + k * stride[axis];
+                    const double xa = xs[axis][k - o[axis]];
+                    const double da = std::max({lo_a - xa, xa - hi_a, 0.0});
                     if (duv + da * da > best[off] + margin) continue;  // the box is already too far
-                    const Vec3 p(ijk[0] * r_f, ijk[1] * r_f, ijk[2] * r_f);
-                    const double d2 = distance2_robust(p, rt.t, rt.degenerate);
+                    p[axis] = xa;
+                    const double d2 = rt.degenerate ? distance2_robust(p, rt.t, true) : distance2_prepared(p, rt.pt);
                     if (d2 < best[off]) best[off] = d2;
                 }
             }
