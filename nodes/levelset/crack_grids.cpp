@@ -273,8 +273,9 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
         return d2;
     };
     const double reach2_slack = reach * reach * (1 + 1e-9);
-    std::vector<Entry> entries;
-    for (std::size_t t = 0; t < prepared.size(); ++t) {
+    // The blocks each triangle reaches, generated per triangle in parallel (counted first, then
+    // written to their place), in triangle order.
+    auto for_each_block = [&](std::size_t t, auto&& emit) {
         const RasterTriangle& rt = prepared[t];
         const int u = rt.u, v = rt.v, axis = rt.axis;
         for (int bi = rt.lo_i[u] >> 3; bi <= rt.hi_i[u] >> 3; ++bi)
@@ -305,10 +306,22 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
                     // Blocks in the corners of the reach box lie farther than the reach from the
                     // triangle's own box: nothing there can enter the band.
                     if (box_gap2(block, rt) > reach2_slack) continue;
-                    entries.push_back({block, near2(block, rt), std::uint32_t(t)});
+                    emit(Entry{block, near2(block, rt), std::uint32_t(t)});
                 }
             }
-    }
+    };
+    std::vector<std::size_t> first_entry(prepared.size() + 1, 0);
+    tbb::parallel_for(std::size_t(0), prepared.size(), [&](std::size_t t) {
+        std::size_t n = 0;
+        for_each_block(t, [&](const Entry&) { ++n; });
+        first_entry[t + 1] = n;
+    });
+    for (std::size_t t = 0; t < prepared.size(); ++t) first_entry[t + 1] += first_entry[t];
+    std::vector<Entry> entries(first_entry.back());
+    tbb::parallel_for(std::size_t(0), prepared.size(), [&](std::size_t t) {
+        std::size_t e = first_entry[t];
+        for_each_block(t, [&](const Entry& x) { entries[e++] = x; });
+    });
     // A total order, so the parallel sort's result does not depend on the thread count.
     tbb::parallel_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
         if (a.block != b.block) return a.block < b.block;
