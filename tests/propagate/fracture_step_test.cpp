@@ -40,10 +40,10 @@ struct Case {
     std::vector<bem::FrontEdgeSif> sifs;
 };
 
-Case penny_case(const Vec3& centre, double a) {
+Case penny_case(const Vec3& centre, double a, double crack_band = 3) {
     const SurfaceMesh cube = bem::bem_cube_mesh(4, L);
     Case c;
-    c.state = start_fracture_state(r_c, r_f, 3, cube.num_triangles());
+    c.state = start_fracture_state(r_c, r_f, crack_band, cube.num_triangles());
     const SurfaceMesh disk = bem::bem_disk_mesh(2, a, centre);
     add_crack(c.state, disk, mesh_triangles(disk));
     bem::AssemblyOptions opt;
@@ -134,6 +134,29 @@ TEST(FractureStep, SameResultForAnyThreadCount) {
         propagate_step(c.state, c.sifs, toughness(3e5), &cube_level_set(), settings());
         verts[threads - 1] = c.state.cracks.vertices;
     }
+    ASSERT_EQ(verts[0].size(), verts[1].size());
+    for (std::size_t i = 0; i < verts[0].size(); ++i) EXPECT_EQ(verts[0][i], verts[1][i]) << "vertex " << i;
+}
+
+// fracture.start's crack_band: crack grids with a 2-voxel band (faster recording) take the same
+// decisions as the thesis' 3 voxels. Test (b) reads Phi_f < 0, whose trilinear corners lie within
+// 1.73 r_f; test (c) reads Phi_f < 0.87 r_f and its gradient, where a corner beyond the 2-voxel
+// band is clamped but carries a trilinear weight of a few per cent at most. A penny next to the
+// face x = 0.5 so that part of the front leaves the object during the step.
+TEST(FractureStep, TwoVoxelCrackBandTakesTheSameDecisions) {
+    StepReport r[2];
+    std::vector<Vec3> verts[2];
+    for (int b = 0; b < 2; ++b) {
+        Case c = penny_case(Vec3(0.2, 0, 0.02), 0.25, b == 0 ? 2.0 : 3.0);
+        r[b] = propagate_step(c.state, c.sifs, toughness(3e5), &cube_level_set(), settings());
+        verts[b] = c.state.cracks.vertices;
+        EXPECT_EQ(c.state.grids.half_width, b == 0 ? 2.0 : 3.0);
+    }
+    EXPECT_GT(r[1].hits_left_object, 0u) << "the case must exercise the geometry tests";
+    EXPECT_EQ(r[0].hits_left_object, r[1].hits_left_object);
+    EXPECT_EQ(r[0].hits_crossed_crack, r[1].hits_crossed_crack);
+    EXPECT_EQ(r[0].hits_self_intersection, r[1].hits_self_intersection);
+    EXPECT_EQ(r[0].elements_added, r[1].elements_added);
     ASSERT_EQ(verts[0].size(), verts[1].size());
     for (std::size_t i = 0; i < verts[0].size(); ++i) EXPECT_EQ(verts[0][i], verts[1][i]) << "vertex " << i;
 }
