@@ -29,20 +29,28 @@ void write_png_rgb(const std::filesystem::path& path, int width, int height, con
 
 namespace {
 
-// Lambert shading with a key light from the upper left and a weaker fill light, clamped to
-// [0, 1] (Film::convertToBitBuffer does not clamp), warm base colour.
+// Lambert shading with a key light from the camera's upper left and a weaker fill light from its
+// lower right, clamped to [0, 1] (Film::convertToBitBuffer does not clamp), warm base colour.
 class LambertShader : public openvdb::tools::BaseShader {
 public:
+    // `back` points from the scene to the camera, `up` is the image's vertical (unit, orthogonal).
+    LambertShader(const openvdb::Vec3R& back, const openvdb::Vec3R& up) {
+        const openvdb::Vec3R right = up.cross(back);
+        key_ = (-0.4 * right + 0.6 * up + 0.8 * back).unit();
+        fill_ = (0.7 * right + 0.2 * up + 0.4 * back).unit();
+    }
     openvdb::tools::Film::RGBA operator()(const openvdb::Vec3R&, const openvdb::Vec3R& normal,
                                           const openvdb::Vec3R& dir) const override {
         openvdb::Vec3R n = normal;
         if (n.dot(dir) > 0) n = -n;  // face the camera
-        const openvdb::Vec3R key = openvdb::Vec3R(-0.5, 0.8, 0.6).unit(), fill = openvdb::Vec3R(0.7, 0.2, -0.4).unit();
-        const double light = 0.15 + 0.75 * std::max(0.0, n.dot(key)) + 0.25 * std::max(0.0, n.dot(fill));
+        const double light = 0.15 + 0.75 * std::max(0.0, n.dot(key_)) + 0.25 * std::max(0.0, n.dot(fill_));
         auto c = [&](double base) { return float(std::clamp(base * light, 0.0, 1.0)); };
         return openvdb::tools::Film::RGBA(c(0.95), c(0.62), c(0.35), 1.0f);
     }
     BaseShader* copy() const override { return new LambertShader(*this); }
+
+private:
+    openvdb::Vec3R key_, fill_;
 };
 
 }  // namespace
@@ -51,6 +59,11 @@ void render_fragments_preview(const std::filesystem::path& png, const Fragments&
     if (fr.fragments.empty()) throw std::invalid_argument("no fragments to render");
     if (opt.width < 16 || opt.height < 16 || opt.width > 8192 || opt.height > 8192)
         throw std::invalid_argument("preview size must be between 16 and 8192 pixels per side");
+    const double up_norm = opt.up.norm(), view_norm = opt.view.norm();
+    if (!(up_norm > 0) || !(view_norm > 0) || !opt.up.allFinite() || !opt.view.allFinite())
+        throw std::invalid_argument("preview camera: 'up' and 'view' must be finite non-zero vectors");
+    if (opt.up.cross(opt.view).norm() < 1e-3 * up_norm * view_norm)
+        throw std::invalid_argument("preview camera: 'view' is parallel to 'up'; tilt it, e.g. view = up + a horizontal axis");
     ensure_openvdb_initialized();
     const double r_f = fr.voxel_size;
     // Common centroid (volume weighted), then each fragment shifted by a whole number of voxels.
@@ -83,10 +96,13 @@ void render_fragments_preview(const std::filesystem::path& png, const Fragments&
     openvdb::tools::Film film(size_t(opt.width), size_t(opt.height), openvdb::tools::Film::RGBA(0.93f, 0.94f, 0.96f, 1.0f));
     const double fov_focal = 50.0;  // 50 mm lens on the default 41.2 mm aperture: ~45 degrees
     const double distance = radius / std::tan(0.5 * 0.69) * 1.1;
-    const openvdb::Vec3d eye = centre + distance * openvdb::Vec3d(0.9, 0.7, 1.2).unit();
+    const Vec3 view = opt.view / view_norm, up = opt.up / up_norm;
+    const openvdb::Vec3d eye = centre + distance * openvdb::Vec3d(view.x(), view.y(), view.z());
     openvdb::tools::PerspectiveCamera cam(film, openvdb::Vec3R(0.0), eye, fov_focal);
-    cam.lookAt(centre, openvdb::Vec3R(0, 1, 0));
-    LambertShader shader;
+    cam.lookAt(centre, openvdb::Vec3R(up.x(), up.y(), up.z()));
+    const Vec3 image_up = (up - up.dot(view) * view).normalized();
+    LambertShader shader(openvdb::Vec3R(view.x(), view.y(), view.z()),
+                         openvdb::Vec3R(image_up.x(), image_up.y(), image_up.z()));
     openvdb::tools::rayTrace(*scene, shader, cam, size_t(std::max(1, opt.samples_per_pixel)), 0, true);
     auto buffer = film.convertToBitBuffer<unsigned char>(false);
     write_png_rgb(png, opt.width, opt.height, buffer.get());

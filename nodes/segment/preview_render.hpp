@@ -11,10 +11,15 @@ struct PreviewOptions {
     int width = 640, height = 480;  // [pixels]
     double explode = 0.3;           // each fragment moves by explode x (its centroid - common centroid)
     int samples_per_pixel = 1;
+    // Camera: `up` is the scene's vertical (the built-in shapes and the thesis cases are z-up,
+    // most imported meshes y-up); the eye looks at the scene's centre from the direction `view`
+    // (any length, not parallel to `up`).
+    Vec3 up = Vec3(0, 0, 1);
+    Vec3 view = Vec3(0.5, -1.2, 0.7);
 };
 
-// Writes the PNG atomically. Throws std::invalid_argument for an empty fragment list or a bad
-// size, std::runtime_error if the PNG cannot be written.
+// Writes the PNG atomically. Throws std::invalid_argument for an empty fragment list, a bad
+// size or a camera whose view is zero or parallel to up, std::runtime_error if the PNG cannot be written.
 void render_fragments_preview(const std::filesystem::path& png, const Fragments& fragments,
                               const PreviewOptions& options = {});
 

@@ -96,6 +96,11 @@ graph::NodeType export_fragments_node() {
     t.param_real("explode", 0.3, "", "preview: fragments move by this fraction of their centroid offset").range(0, 5);
     t.param_int("width", 640, "preview width [pixels]").range(16, 8192);
     t.param_int("height", 480, "preview height [pixels]").range(16, 8192);
+    t.param_reals("up", {0, 0, 1}, "", "preview: the scene's vertical, drawn upwards (0 1 0 for most imported meshes)")
+        .size(3);
+    t.param_reals("view", {0.5, -1.2, 0.7}, "",
+                  "preview: direction from the scene's centre to the camera (any length, not parallel to up)")
+        .size(3);
     t.param_string("prefix", "fragment", "file name prefix");
     t.output<std::string>("directory", "the directory the files were written to");
     t.run([](graph::NodeContext& c) {
@@ -109,6 +114,16 @@ graph::NodeType export_fragments_node() {
         o.preview_options.explode = c.real("explode");
         o.preview_options.width = int(c.integer("width"));
         o.preview_options.height = int(c.integer("height"));
+        const auto vec = [&](const char* p) {
+            const std::vector<double>& r = c.reals(p);
+            return Vec3(r[0], r[1], r[2]);
+        };
+        o.preview_options.up = vec("up");
+        o.preview_options.view = vec("view");
+        if (!(o.preview_options.up.norm() > 0)) c.fail("parameter 'up' is the zero vector; give the vertical, e.g. [0, 0, 1]");
+        if (o.preview_options.up.cross(o.preview_options.view).norm() <
+            1e-3 * o.preview_options.up.norm() * o.preview_options.view.norm())
+            c.fail("parameter 'view' is zero or parallel to 'up'; tilt it, e.g. [0.5, -1.2, 0.7] for z up");
         o.prefix = c.string("prefix");
         if (o.prefix.empty() || o.prefix.find_first_of("/\\") != std::string::npos)
             c.fail("parameter 'prefix': must be a non-empty file name without slashes");

@@ -96,5 +96,21 @@ TEST(ExportFragmentsNode, MissingInputsAreNamed) {
     EXPECT_NE(m.find("displacement_scale"), std::string::npos) << m;
 }
 
+TEST(ExportFragmentsNode, PreviewCameraParametersAreChecked) {
+    const Inputs only_fragments = {{"fragments", value(cut().fragments)}};
+    std::string m = failure({{"vdb", false}, {"meshes", false}, {"up", std::vector<double>{0, 0, 0}}}, only_fragments);
+    EXPECT_NE(m.find("'up'"), std::string::npos) << m;
+    m = failure({{"vdb", false}, {"meshes", false}, {"up", std::vector<double>{0, 1, 0}}, {"view", std::vector<double>{0, -3, 0}}},
+                only_fragments);
+    EXPECT_NE(m.find("'view'"), std::string::npos) << m;
+    EXPECT_NE(m.find("parallel"), std::string::npos) << m;
+    // A y-up camera is accepted and renders.
+    const auto r = run_node("export.fragments",
+                            {{"vdb", false}, {"meshes", false}, {"width", std::int64_t(64)}, {"height", std::int64_t(48)},
+                             {"up", std::vector<double>{0, 1, 0}}, {"view", std::vector<double>{0.9, 0.7, 1.2}}},
+                            only_fragments, temp_dir("export-fragments-camera"));
+    EXPECT_EQ(r.counts.at("files"), 1);
+}
+
 }  // namespace
 }  // namespace cf::testing
