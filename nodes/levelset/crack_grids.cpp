@@ -273,6 +273,17 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
         return d2;
     };
     const double reach2_slack = reach * reach * (1 + 1e-9);
+    // A block whose centre lies farther from the triangle itself than the reach plus the block's
+    // half-diagonal holds no voxel of the band (triangle inequality). This prunes the far corners
+    // of a long, thin, oblique triangle's box (a fan between a stopped marker and a moving
+    // neighbour), whose box-based count grows with the square of its length.
+    const double block_half_diagonal = std::sqrt(3.0) * 0.5 * (kLeafDim - 1) * r_f;
+    const double block_reach2 = (reach + block_half_diagonal) * (reach + block_half_diagonal) * (1 + 1e-9);
+    auto beyond_reach = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
+        const Vec3 c = (Vec3(block[0], block[1], block[2]).array() + 0.5 * (kLeafDim - 1)).matrix() * r_f;
+        const double d2 = rt.degenerate ? distance2_robust(c, rt.t, true) : distance2_prepared(c, rt.pt);
+        return d2 > block_reach2;
+    };
     // The blocks each triangle reaches, generated per triangle in parallel (counted first, then
     // written to their place), in triangle order.
     auto for_each_block = [&](std::size_t t, auto&& emit) {
@@ -305,7 +316,7 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
                     block[axis] = bk * kLeafDim;
                     // Blocks in the corners of the reach box lie farther than the reach from the
                     // triangle's own box: nothing there can enter the band.
-                    if (box_gap2(block, rt) > reach2_slack) continue;
+                    if (box_gap2(block, rt) > reach2_slack || beyond_reach(block, rt)) continue;
                     emit(Entry{block, near2(block, rt), std::uint32_t(t)});
                 }
             }
@@ -430,6 +441,16 @@ std::vector<Triangle3> strip_triangles(const FrontMotion& m) {
         // (Late in a run most markers have stopped; rasterising their segments every sub-step
         // cost more than the moving part of the front.)
         if (still(i) && still(j)) continue;
+        // One stopped marker: the quad collapses to a single fan triangle (its other half would
+        // be a segment on the fan's edge, which changes no distance).
+        if (still(i)) {
+            tris.push_back({m.p0[i], m.p0[j], m.p1[j]});
+            continue;
+        }
+        if (still(j)) {
+            tris.push_back({m.p0[i], m.p0[j], m.p1[i]});
+            continue;
+        }
         tris.push_back({m.p0[i], m.p0[j], m.p1[j]});
         tris.push_back({m.p0[i], m.p1[j], m.p1[i]});
     }
