@@ -490,10 +490,22 @@ MarkerTest test_marker(const LevelSet* object, const std::vector<LevelSet>& crac
         FieldSampler f(cracks[own]);
         const double phi0 = f.value(p0);
         const double sin45 = std::sqrt(0.5);
+        // A marker on its own crack (Phi_f(p0) < 0, the usual case: p0 lies on the recorded front
+        // edge) can only run back into the crack after its path has left it, i.e. after some
+        // point with Phi_f(x) >= phi(x), the growth eq. (6.2) expects when moving away. Without
+        // this, a marker whose path stays inside the recorded sheet (Phi_f flat along it: a
+        // marker behind the recorded front, between neighbours that ran ahead, or on the chord
+        // of a user crack's curved edge) was stopped whenever trilinear noise tilted the
+        // gradient against it: at a front edge the trilinear Phi_f(p0) is about -0.45 r_f, not
+        // the exact -0.87 r_f, so phi > 0 already 0.65 r_f along a step of at most r_f.
+        bool moved_away = phi0 >= 0;
         for (int s = 1; s <= steps; ++s) {
             const double alpha = double(s) / steps;
             const Vec3 x = p0 + alpha * d;
             const double cone = phi0 + alpha * len * sin45;
+            const bool was_away = moved_away;
+            if (f.value(x) >= cone) moved_away = true;
+            if (!was_away) continue;
             if (cone <= 0) continue;
             if (f.value(x) >= crack_half_thickness(r_f)) continue;  // Phi_f(x) < sqrt(3) r_f / 2
             if (f.gradient(x).dot(d) < 0) {

@@ -281,6 +281,47 @@ TEST(MarkerTest, SelfIntersectionByEquation62) {
               MarkerHit::none);
 }
 
+// Markers whose whole sub-step stays inside their recorded sheet (behind the recorded front:
+// between neighbours that ran ahead, or on the chord of a curved initial crack) never left the
+// crack, so they cannot run back into it. On an oblique sheet, trilinear Phi_f varies between
+// about -0.87 r_f and -0.4 r_f along the sheet and its gradient points every way in the plane;
+// eq. (6.2) on its own flagged such moves once phi = Phi_f(p0) + |x - p0| sin 45 turned
+// positive. A marker starting just off the sheet (Phi_f(p0) >= 0) and heading into it is hit.
+TEST(MarkerTest, PathsInsideTheRecordedSheetAreNotSelfIntersections) {
+    // An oblique sheet through the origin: normal (-0.3, -0.17, 1) normalised.
+    const Vec3 n = Vec3(-0.3, -0.17, 1).normalized();
+    const Vec3 a = Vec3(1, 0, 0.3).normalized(), b = n.cross(a);
+    std::vector<Vec3> f0, f1;
+    for (int i = 0; i <= 20; ++i) {
+        const double t = -0.2 + 0.4 * i / 20;
+        f0.push_back(-0.2 * a + t * b);
+        f1.push_back(0.2 * a + t * b);
+    }
+    CrackRecorder rec(kRf, 2);  // the fracture loop's default 2-voxel band
+    rec.add_crack();
+    rec.add_triangles(0, strip_triangles(FrontMotion{f0, f1, false}));
+    const std::vector<LevelSet> own = rec.snapshot().cracks;
+    int moves = 0, hits = 0;
+    double phi_max = -1;
+    for (int i = -6; i <= 6; ++i)
+        for (int j = -6; j <= 6; ++j) {
+            const Vec3 p0 = (0.011 * i) * a + (0.013 * j) * b;
+            phi_max = std::max(phi_max, sample(own[0], p0) / kRf);
+            for (int k = 0; k < 8; ++k) {  // in-plane directions, 0.85 r_f, slightly tilted
+                const double phi = 2 * M_PI * k / 8;
+                const Vec3 d = 0.85 * kRf * (std::cos(phi) * a + std::sin(phi) * b + 0.05 * (k % 2 ? 1 : -1) * n);
+                hits += test_marker(nullptr, own, 0, p0, p0 + d).hit == MarkerHit::self_intersection;
+                ++moves;
+            }
+        }
+    EXPECT_GT(phi_max, -0.6) << "the sheet must give the trilinear plateau that made eq. (6.2) misfire";
+    EXPECT_EQ(hits, 0) << "of " << moves << " in-sheet moves";
+    // Just off the sheet (1.2 r_f above it, Phi_f(p0) = 0.33 r_f) and heading into it: hit.
+    const Vec3 above = 1.2 * kRf * n;
+    EXPECT_GE(sample(own[0], above), 0.0);
+    EXPECT_EQ(test_marker(nullptr, own, 0, above, above - 2.0 * kRf * n).hit, MarkerHit::self_intersection);
+}
+
 TEST(MarkerTest, RecordSubstepReportsWhichCaseHitAndStillRecords) {
     const LevelSet object = level_set_from_mesh(testmesh::box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), kRf);
     CrackRecorder rec(kRf);
