@@ -100,8 +100,11 @@ AngleInterval valid_interval(double K_I_III, double KII, double K_c) {
         }
         return inside;
     };
-    I.lo = crossing(opt, -kPi);
-    I.hi = crossing(opt, kPi);
+    // Never backwards: K_theta > K_c reaches past 90 degrees once K > 3.8 K_c (pure mode I), and
+    // a front steered that far would run back through its own faces.
+    const double limit = 0.5 * kPi;
+    I.lo = ktheta(K_I_III, KII, -limit) > K_c ? -limit : crossing(opt, -limit);
+    I.hi = ktheta(K_I_III, KII, limit) > K_c ? limit : crossing(opt, limit);
     return I;
 }
 

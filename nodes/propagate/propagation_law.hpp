@@ -61,8 +61,9 @@ double propagation_speed(double K_eff, double K_c, double c_R);
 double substep_duration(double r_f, double c_R);
 
 // Valid directions (ch. 4.5.3, eq. 4.13): the interval around theta* where
-// K_theta = K_I,III cos^3(theta/2) - 3 K_II cos^2(theta/2) sin(theta/2) > K_c.
-// empty when K_theta(theta*) <= K_c (then lo = hi = theta*).
+// K_theta = K_I,III cos^3(theta/2) - 3 K_II cos^2(theta/2) sin(theta/2) > K_c, within +-90
+// degrees: otherwise (K > 3.8 K_c in pure mode I, less in mixed mode) a toughness gradient could
+// steer a front backwards through its own faces. Empty when K_theta(theta*) <= K_c (then lo = hi = theta*).
 struct AngleInterval {
     double lo = 0, hi = 0;
     bool empty = true;

@@ -111,14 +111,35 @@ TEST(ValidInterval, EndsWhereKthetaEqualsToughness) {
     EXPECT_NEAR(I.hi, 2 * std::acos(std::cbrt(0.5)), 1e-12);
     EXPECT_NEAR(I.lo, -2 * std::acos(std::cbrt(0.5)), 1e-12);
     // Mixed: both ends give K_theta = K_c and the optimum lies inside.
-    const AngleInterval J = valid_interval(1.5, 0.6, 1);
+    const AngleInterval J = valid_interval(1.5, 0.2, 1);
     ASSERT_FALSE(J.empty);
-    const double th = kink_angle(1.5, 0.6);
+    const double th = kink_angle(1.5, 0.2);
     EXPECT_LT(J.lo, th);
     EXPECT_GT(J.hi, th);
-    EXPECT_NEAR(local_sifs({1.5, 0.6, 0}, J.lo).Ktheta, 1, 1e-10);
-    EXPECT_NEAR(local_sifs({1.5, 0.6, 0}, J.hi).Ktheta, 1, 1e-10);
+    EXPECT_NEAR(local_sifs({1.5, 0.2, 0}, J.lo).Ktheta, 1, 1e-10);
+    EXPECT_NEAR(local_sifs({1.5, 0.2, 0}, J.hi).Ktheta, 1, 1e-10);
     EXPECT_TRUE(valid_interval(0.9, 0, 1).empty);
+}
+
+TEST(ValidInterval, NeverReachesBackwards) {
+    // Pure mode I at K = 5 K_c: K_theta > K_c up to 2 acos(5^(-1/3)) = 108.6 degrees, but a
+    // front steered past 90 degrees runs back through its own faces: clamped to +-90 degrees.
+    ASSERT_GT(2 * std::acos(std::cbrt(0.2)), 0.5 * M_PI);
+    const AngleInterval I = valid_interval(5, 0, 1);
+    ASSERT_FALSE(I.empty);
+    EXPECT_DOUBLE_EQ(I.hi, 0.5 * M_PI);
+    EXPECT_DOUBLE_EQ(I.lo, -0.5 * M_PI);
+    // Mixed mode, K_II > 0 turns theta* negative: K_theta(-90 deg) = 1.5 cos^3(45 deg) +
+    // 3 0.6 cos^2(45 deg) sin(45 deg) = 1.17 > K_c, so that side is clamped and the other ends
+    // where K_theta = K_c.
+    const AngleInterval J = valid_interval(1.5, 0.6, 1);
+    EXPECT_NEAR(local_sifs({1.5, 0.6, 0}, -0.5 * M_PI).Ktheta, 1.5 * std::pow(0.5, 1.5) + 1.8 * std::pow(0.5, 1.5), 1e-12);
+    EXPECT_DOUBLE_EQ(J.lo, -0.5 * M_PI);
+    EXPECT_GT(J.hi, kink_angle(1.5, 0.6));
+    EXPECT_NEAR(local_sifs({1.5, 0.6, 0}, J.hi).Ktheta, 1, 1e-10);
+    // Steering toward a weaker region straight behind the front picks the clamped edge.
+    const double w = 1 / (1 + 1.0 * 1.0 / 1.0);  // eq. (4.14) weight for r_grad r_c / K_c = 1
+    EXPECT_NEAR(steered_angle(0, I, GradientDirection{M_PI * 0.99, 1.0}, 1.0, 1.0), (1 - w) * 0.5 * M_PI, 1e-12);
 }
 
 TEST(Blending, WeightsAndAngles) {
