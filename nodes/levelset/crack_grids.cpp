@@ -503,11 +503,12 @@ MarkerTest test_marker(const LevelSet* object, const std::vector<LevelSet>& crac
             const double alpha = double(s) / steps;
             const Vec3 x = p0 + alpha * d;
             const double cone = phi0 + alpha * len * sin45;
+            const double phi_x = f.value(x);
             const bool was_away = moved_away;
-            if (f.value(x) >= cone) moved_away = true;
+            if (phi_x >= cone) moved_away = true;
             if (!was_away) continue;
             if (cone <= 0) continue;
-            if (f.value(x) >= crack_half_thickness(r_f)) continue;  // Phi_f(x) < sqrt(3) r_f / 2
+            if (phi_x >= crack_half_thickness(r_f)) continue;  // Phi_f(x) < sqrt(3) r_f / 2
             if (f.gradient(x).dot(d) < 0) {
                 r.hit = MarkerHit::self_intersection;
                 r.alpha = alpha;

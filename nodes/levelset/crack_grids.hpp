@@ -44,13 +44,16 @@ struct MarkerTest {
 };
 
 // The strip swept by a front between two sub-steps, as triangles (two per joined marker pair;
-// none for a pair of stopped markers, p1 == p0, whose segment an earlier strip already holds).
+// one fan triangle where one of the pair stopped, p1 == p0; none for a pair of stopped markers,
+// whose segment an earlier strip already holds).
 std::vector<Triangle3> strip_triangles(const FrontMotion& m);
 
 // Marker tests of fig. 27 against grids holding the state up to the previous sub-step:
 // (a) Phi_o(p1) > 0; (b) Phi_f(x) < 0 for some x on p0 -> p1 and another crack f, sampled every
 // r_f/4 so no crossing of the sqrt(3) r_f thick crack volume is missed; (c) eq. (6.2) on the
-// marker's own crack. `object` may be null (no test (a)); `own` < 0 skips (c).
+// marker's own crack, for a marker starting on it (Phi_f(p0) < 0) only after its path has left
+// the crack (Phi_f >= phi at an earlier sample). `object` may be null (no test (a)); `own` < 0
+// skips (c).
 MarkerTest test_marker(const LevelSet* object, const std::vector<LevelSet>& cracks, int own, const Vec3& p0,
                        const Vec3& p1);
 
