@@ -46,12 +46,16 @@ static double count_or(const std::map<std::string, double>& c, const std::string
 
 // A digest for people and scripts: seconds per node type, iterations per loop and, for fracture
 // pipelines, the figures of a thesis table row (BEM steps, elements at the first and last
-// assembly, cracks initiated, fragments). Taken from the nodes' own counts.
+// assembly, cracks initiated, fragments) and the markers stopped by each test of fig. 27. Taken
+// from the nodes' own counts.
 static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const graph::ExecutionResult& result) {
     std::map<std::string, double> stage_seconds;
     std::map<std::string, int> loops;
     int steps = 0;
     double cracks = -1, fragments = -1;
+    // Markers stopped by each geometry test of fig. 27, summed over all propagate runs: where a
+    // run stalls, these say why (surface reached, another crack, self-intersection eq. 6.2).
+    std::map<std::string, double> stops;
     // First and last assembly in time: (start of the run, elements), (end of the run, elements).
     double first_t = 1e300, last_t = -1, first_n = 0, last_n = 0;
     for (std::size_t i = 0; i < plan.nodes.size(); ++i) {
@@ -70,7 +74,15 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
                 if (s.intervals[r].second > last_t) last_t = s.intervals[r].second, last_n = n;
             }
         }
-        if (s.type == "propagate.fronts") steps += s.runs;
+        if (s.type == "propagate.fronts") {
+            steps += s.runs;
+            for (std::size_t r = 0; r < std::size_t(s.runs); ++r) {
+                const auto& c = run_counts(s, r);
+                stops["left_object"] += count_or(c, "hits_left_object");
+                stops["crossed_crack"] += count_or(c, "hits_crossed_crack");
+                stops["self_intersection"] += count_or(c, "hits_self_intersection");
+            }
+        }
         if (s.type == "segment.fragments" && s.runs > 0) fragments = count_or(s.counts, "fragments");
     }
     w.key("summary").begin_object();
@@ -88,6 +100,11 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
         }
         if (cracks >= 0) w.key("cracks_initiated").value(static_cast<long long>(cracks));
         if (fragments >= 0) w.key("fragments").value(static_cast<long long>(fragments));
+        if (!stops.empty()) {
+            w.key("markers_stopped").begin_object();
+            for (const auto& [k, v] : stops) w.key(k).value(static_cast<long long>(v));
+            w.end_object();
+        }
         w.end_object();
     }
     w.end_object();

@@ -103,7 +103,7 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
     YAML::Node report = YAML::LoadFile((dir / "report.json").string());
     const YAML::Node summary = report["summary"];
     ASSERT_TRUE(summary["fracture"].IsMap()) << "no fracture summary";
-    double elements_start = -1, elements_end = -1, fragments = -1, seconds = 0;
+    double elements_start = -1, elements_end = -1, fragments = -1, seconds = 0, left = 0, crossed = 0, self = 0;
     int propagate_runs = -1, loop_runs = -1;
     std::map<std::string, double> by_type;
     for (const auto& n : report["nodes"]) {
@@ -115,7 +115,14 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
             const YAML::Node last = n["iteration_counts"][n["iteration_counts"].size() - 1];
             elements_end = last["triangles"].as<double>() + last["crack_triangles"].as<double>();
         }
-        if (name == "propagate") propagate_runs = n["runs"].as<int>();
+        if (name == "propagate") {
+            propagate_runs = n["runs"].as<int>();
+            for (const auto& it : n["iteration_counts"]) {
+                left += it["hits_left_object"].as<double>();
+                crossed += it["hits_crossed_crack"].as<double>();
+                self += it["hits_self_intersection"].as<double>();
+            }
+        }
         if (name == "fracture") loop_runs = n["runs"].as<int>();
         if (name == "fragments") fragments = n["counts"]["fragments"].as<double>();
     }
@@ -127,6 +134,11 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
     EXPECT_GT(elements_end, elements_start) << "the crack must have grown";
     EXPECT_EQ(f["fragments"].as<double>(), fragments);
     EXPECT_EQ(fragments, 2.0) << "the mode-I edge crack splits the cube";
+    EXPECT_EQ(f["markers_stopped"]["left_object"].as<double>(), left);
+    EXPECT_EQ(f["markers_stopped"]["crossed_crack"].as<double>(), crossed);
+    EXPECT_EQ(f["markers_stopped"]["self_intersection"].as<double>(), self);
+    EXPECT_GT(left, 0) << "the crack reaches the far faces";
+    EXPECT_EQ(crossed, 0) << "a single crack crosses no other";
     for (const auto& [type, sec] : by_type) {
         EXPECT_NEAR(summary["stage_seconds"][type].as<double>(), sec, 1e-9 + 1e-12 * sec) << type;
         seconds += sec;
