@@ -140,6 +140,8 @@ struct RasterTriangle {
             cv = -n[v] / n[axis];
         }
     }
+    // Squared distance from p to the triangle [m^2].
+    double distance2(const Vec3& p) const { return degenerate ? distance2_robust(p, t, true) : distance2_prepared(p, pt); }
 };
 
 // The thickened distances of one leaf-sized block: the smallest squared distance over all
@@ -216,7 +218,7 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
                     const double da = std::max({lo_a - xa, xa - hi_a, 0.0});
                     if (duv + da * da > best[off] + margin) continue;  // the box is already too far
                     p[axis] = xa;
-                    const double d2 = rt.degenerate ? distance2_robust(p, rt.t, true) : distance2_prepared(p, rt.pt);
+                    const double d2 = rt.distance2(p);
                     if (d2 < best[off]) best[off] = d2;
                 }
             }
@@ -281,8 +283,7 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
     const double block_reach2 = (reach + block_half_diagonal) * (reach + block_half_diagonal) * (1 + 1e-9);
     auto beyond_reach = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
         const Vec3 c = (Vec3(block[0], block[1], block[2]).array() + 0.5 * (kLeafDim - 1)).matrix() * r_f;
-        const double d2 = rt.degenerate ? distance2_robust(c, rt.t, true) : distance2_prepared(c, rt.pt);
-        return d2 > block_reach2;
+        return rt.distance2(c) > block_reach2;
     };
     // The blocks each triangle reaches, generated per triangle in parallel (counted first, then
     // written to their place), in triangle order.

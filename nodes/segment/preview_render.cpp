@@ -55,15 +55,21 @@ private:
 
 }  // namespace
 
+std::string preview_camera_problem(const PreviewOptions& opt) {
+    if (!opt.up.allFinite() || !(opt.up.norm() > 0)) return "'up' must be a finite non-zero vector, e.g. [0, 0, 1]";
+    if (!opt.view.allFinite() || !(opt.view.norm() > 0)) return "'view' must be a finite non-zero vector";
+    if (opt.up.cross(opt.view).norm() < 1e-3 * opt.up.norm() * opt.view.norm())
+        return "'view' is parallel to 'up'; tilt it, e.g. [0.5, -1.2, 0.7] for z up";
+    return "";
+}
+
 void render_fragments_preview(const std::filesystem::path& png, const Fragments& fr, const PreviewOptions& opt) {
     if (fr.fragments.empty()) throw std::invalid_argument("no fragments to render");
     if (opt.width < 16 || opt.height < 16 || opt.width > 8192 || opt.height > 8192)
         throw std::invalid_argument("preview size must be between 16 and 8192 pixels per side");
+    if (const std::string problem = preview_camera_problem(opt); !problem.empty())
+        throw std::invalid_argument("preview camera: " + problem);
     const double up_norm = opt.up.norm(), view_norm = opt.view.norm();
-    if (!(up_norm > 0) || !(view_norm > 0) || !opt.up.allFinite() || !opt.view.allFinite())
-        throw std::invalid_argument("preview camera: 'up' and 'view' must be finite non-zero vectors");
-    if (opt.up.cross(opt.view).norm() < 1e-3 * up_norm * view_norm)
-        throw std::invalid_argument("preview camera: 'view' is parallel to 'up'; tilt it, e.g. view = up + a horizontal axis");
     ensure_openvdb_initialized();
     const double r_f = fr.voxel_size;
     // Common centroid (volume weighted), then each fragment shifted by a whole number of voxels.

@@ -4,6 +4,7 @@
 #include "nodes/segment/fragments.hpp"
 
 #include <filesystem>
+#include <string>
 
 namespace cf {
 
@@ -17,6 +18,10 @@ struct PreviewOptions {
     Vec3 up = Vec3(0, 0, 1);
     Vec3 view = Vec3(0.5, -1.2, 0.7);
 };
+
+// What is wrong with the camera of `options` ('up' or 'view' zero or not finite, 'view' parallel
+// to 'up'), or "" if it is usable.
+std::string preview_camera_problem(const PreviewOptions& options);
 
 // Writes the PNG atomically. Throws std::invalid_argument for an empty fragment list, a bad
 // size or a camera whose view is zero or parallel to up, std::runtime_error if the PNG cannot be written.

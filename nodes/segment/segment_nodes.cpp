@@ -120,10 +120,8 @@ graph::NodeType export_fragments_node() {
         };
         o.preview_options.up = vec("up");
         o.preview_options.view = vec("view");
-        if (!(o.preview_options.up.norm() > 0)) c.fail("parameter 'up' is the zero vector; give the vertical, e.g. [0, 0, 1]");
-        if (o.preview_options.up.cross(o.preview_options.view).norm() <
-            1e-3 * o.preview_options.up.norm() * o.preview_options.view.norm())
-            c.fail("parameter 'view' is zero or parallel to 'up'; tilt it, e.g. [0.5, -1.2, 0.7] for z up");
+        if (const std::string problem = preview_camera_problem(o.preview_options); !problem.empty())
+            c.fail("parameter " + problem);
         o.prefix = c.string("prefix");
         if (o.prefix.empty() || o.prefix.find_first_of("/\\") != std::string::npos)
             c.fail("parameter 'prefix': must be a non-empty file name without slashes");
