@@ -6,6 +6,7 @@
 #include "nodes/fields/closed_form_fields.hpp"
 #include "nodes/fields/grid_fields.hpp"
 #include "nodes/registration.hpp"
+#include "nodes/vec3_param.hpp"
 
 #include <stdexcept>
 
@@ -51,9 +52,9 @@ graph::NodeType layered_node() {
     t.param_reals("direction", {0, 0, 1}, "", "layer normal l (normalised)").size(3);
     common_params(t);
     t.run([](graph::NodeContext& c) {
-        const auto& l = c.reals("direction");
+        const Vec3 l = vec3_param(c, "direction");
         emit(c, [&] {
-            return std::make_shared<LayeredField>(c.real("a"), c.real("b"), c.real("frequency"), Vec3(l[0], l[1], l[2]));
+            return std::make_shared<LayeredField>(c.real("a"), c.real("b"), c.real("frequency"), l);
         });
     });
     return t;

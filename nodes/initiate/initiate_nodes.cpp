@@ -6,6 +6,7 @@
 #include "nodes/initiate/surface_queries.hpp"
 #include "nodes/initiate/user_crack.hpp"
 #include "nodes/registration.hpp"
+#include "nodes/vec3_param.hpp"
 
 #include <stdexcept>
 
@@ -83,14 +84,10 @@ graph::NodeType user_crack_node() {
         if (state.initiated.size() != mesh.num_triangles())
             c.fail("input 'mesh' has " + std::to_string(mesh.num_triangles()) + " triangles but input 'state' was started for " +
                    std::to_string(state.initiated.size()) + " surface elements; connect the BEM surface the state belongs to");
-        const auto v = [&](const char* p) {
-            const std::vector<double>& r = c.reals(p);
-            return Vec3(r[0], r[1], r[2]);
-        };
         initiate::UserCrackSpec spec;
-        spec.centre = v("centre");
-        spec.normal = v("normal");
-        spec.front_direction = v("front_direction");
+        spec.centre = vec3_param(c, "centre");
+        spec.normal = vec3_param(c, "normal");
+        spec.front_direction = vec3_param(c, "front_direction");
         spec.radius = c.real("radius");
         const std::string name = "user_crack" + std::to_string(state.num_cracks());
         initiate::UserCrack crack;

@@ -5,6 +5,7 @@
 #include "nodes/levelset/crack_grids.hpp"
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/registration.hpp"
+#include "nodes/vec3_param.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -12,7 +13,6 @@
 namespace cf {
 namespace {
 
-Vec3 vec3(const std::vector<double>& v) { return Vec3(v[0], v[1], v[2]); }
 
 graph::NodeType from_mesh_node() {
     graph::NodeType t("levelset.from_mesh",
@@ -65,7 +65,7 @@ graph::NodeType crack_planar_node() {
     t.output<CrackLevelSets>("cracks", "all crack grids");
     t.run([](graph::NodeContext& c) {
         const LevelSet& object = c.in<LevelSet>("object");
-        const Vec3 centre = vec3(c.reals("centre")), normal = vec3(c.reals("normal"));
+        const Vec3 centre = vec3_param(c, "centre"), normal = vec3_param(c, "normal");
         if (!(normal.norm() > 0)) c.fail("parameter 'normal': must be a non-zero vector");
         const double radius = c.real("radius");
         if (!disk_meets_object(object, centre, normal.normalized(), radius))

@@ -2,6 +2,7 @@
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/registration.hpp"
+#include "nodes/vec3_param.hpp"
 #include "nodes/bem/solver.hpp"
 #include "nodes/segment/fragment_export.hpp"
 #include "nodes/segment/fragments.hpp"
@@ -114,12 +115,8 @@ graph::NodeType export_fragments_node() {
         o.preview_options.explode = c.real("explode");
         o.preview_options.width = int(c.integer("width"));
         o.preview_options.height = int(c.integer("height"));
-        const auto vec = [&](const char* p) {
-            const std::vector<double>& r = c.reals(p);
-            return Vec3(r[0], r[1], r[2]);
-        };
-        o.preview_options.up = vec("up");
-        o.preview_options.view = vec("view");
+        o.preview_options.up = vec3_param(c, "up");
+        o.preview_options.view = vec3_param(c, "view");
         if (const std::string problem = preview_camera_problem(o.preview_options); !problem.empty())
             c.fail("parameter " + problem);
         o.prefix = c.string("prefix");

@@ -4,6 +4,7 @@
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/registration.hpp"
+#include "nodes/vec3_param.hpp"
 #include "nodes/regions/region_stats.hpp"
 #include "nodes/shape/box.hpp"
 #include "nodes/shape/cylinder.hpp"
@@ -18,7 +19,6 @@
 namespace cf {
 namespace {
 
-Vec3 vec3(const std::vector<double>& v) { return Vec3(v[0], v[1], v[2]); }
 
 // Runs a shape function, turning its spec errors into node errors, and reports the result.
 void emit(graph::NodeContext& c, const std::function<SurfaceMesh()>& make) {
@@ -45,8 +45,8 @@ graph::NodeType box_node() {
     t.param_int("subdivisions", 4, "grid cells per edge (n)").range(1, 512);
     t.run([](graph::NodeContext& c) {
         BoxSpec s;
-        s.size = vec3(c.reals("size"));
-        s.centre = vec3(c.reals("centre"));
+        s.size = vec3_param(c, "size");
+        s.centre = vec3_param(c, "centre");
         s.subdivisions = static_cast<int>(c.integer("subdivisions"));
         emit(c, [s] { return make_box(s); });
     });
@@ -69,7 +69,7 @@ graph::NodeType sphere_node() {
     t.run([](graph::NodeContext& c) {
         SphereSpec s;
         s.radius = c.real("radius");
-        s.centre = vec3(c.reals("centre"));
+        s.centre = vec3_param(c, "centre");
         s.level = icosphere_level_for(static_cast<double>(c.integer("triangles")));
         s.projection = c.string("projection") == "once" ? SphereProjection::Once : SphereProjection::PerLevel;
         c.count("level", s.level);
@@ -95,7 +95,7 @@ graph::NodeType cylinder_node() {
         CylinderSpec s;
         s.radius = c.real("radius");
         s.height = c.real("height");
-        s.centre = vec3(c.reals("centre"));
+        s.centre = vec3_param(c, "centre");
         s.segments = static_cast<int>(c.integer("segments"));
         s.rings = static_cast<int>(c.integer("rings"));
         s.caps = c.string("caps") == "rings" ? CapStyle::Rings : CapStyle::Fan;
@@ -127,7 +127,7 @@ graph::NodeType notched_bar_node() {
         s.length = c.real("length");
         s.height = c.real("height");
         s.depth = c.real("depth");
-        s.centre = vec3(c.reals("centre"));
+        s.centre = vec3_param(c, "centre");
         s.notch = c.string("notch") == "rectangular" ? NotchShape::Rectangular : NotchShape::V;
         s.notch_width = c.real("notch_width");
         s.notch_depth = c.real("notch_depth");
@@ -158,7 +158,7 @@ graph::NodeType torus_node() {
         TorusSpec s;
         s.major_radius = c.real("major_radius");
         s.minor_radius = c.real("minor_radius");
-        s.centre = vec3(c.reals("centre"));
+        s.centre = vec3_param(c, "centre");
         s.major_segments = static_cast<int>(c.integer("major_segments"));
         s.minor_segments = static_cast<int>(c.integer("minor_segments"));
         s.pull_angle = c.real("pull_angle");
