@@ -21,6 +21,7 @@ const graph::NodeRegistry& node_registry() {
         register_fields_nodes(r);
         register_initiate_nodes(r);
         register_propagate_nodes(r);
+        register_estimate_nodes(r);
         return r;
     }();
     return registry;
@@ -34,6 +35,8 @@ const std::vector<VerificationCase>& verification_cases() {
         add_levelset_verification_cases(c);
         add_bem_verification_cases(c);
         add_fracture_verification_cases(c);
+        add_estimate_verification_cases(c);
+        add_estimator_pipeline_cases(c);
         std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
         return c;
     }();

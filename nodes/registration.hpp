@@ -19,6 +19,7 @@ void register_bem_nodes(graph::NodeRegistry& r);       // nodes/bem (assemble.sg
 void register_fields_nodes(graph::NodeRegistry& r);    // nodes/fields (fields.*, material.brittle)
 void register_initiate_nodes(graph::NodeRegistry& r);  // nodes/initiate (initiate.cracks, initiate.user_crack)
 void register_propagate_nodes(graph::NodeRegistry& r); // nodes/propagate (fracture.*, propagate.fronts)
+void register_estimate_nodes(graph::NodeRegistry& r);  // nodes/estimate (sif.fronts, sif.estimator)
 
 // Verification cases per stage (crackflow verify).
 // (stages add: void add_<stage>_verification_cases(std::vector<VerificationCase>& cases);)
@@ -26,6 +27,8 @@ void add_propagate_verification_cases(std::vector<VerificationCase>& cases);  //
 void add_initiate_verification_cases(std::vector<VerificationCase>& cases);   // nodes/initiate: case 4
 void add_bem_verification_cases(std::vector<VerificationCase>& cases);  // nodes/bem: operator identities, cases 1-3, 5
 void add_levelset_verification_cases(std::vector<VerificationCase>& cases);  // nodes/segment: cases 9-12
+void add_estimate_verification_cases(std::vector<VerificationCase>& cases);  // nodes/estimate: cases 18-22 (ch. 5)
+void add_estimator_pipeline_cases(std::vector<VerificationCase>& cases);  // nodes/estimator_verification.cpp: 19-21
 void add_fracture_verification_cases(std::vector<VerificationCase>& cases);  // nodes/fracture_verification.cpp: case 8
 
 }  // namespace cf

@@ -2,6 +2,7 @@
 // solve.sgbem (boundary conditions, factorisation reuse, crack Schur extension).
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
+#include "nodes/bem/assembly_step.hpp"
 #include "nodes/bem/bem_types.hpp"
 #include "nodes/bem/bem_vtk_export.hpp"
 #include "nodes/bem/displacement_correlation.hpp"
@@ -14,19 +15,23 @@
 namespace cf {
 namespace {
 
-bool same_mesh(const SurfaceMesh& a, const SurfaceMesh& b) {
-    return a.vertices == b.vertices && a.triangles == b.triangles;
-}
-
 graph::NodeType assemble_node() {
     graph::NodeType t("assemble.sgbem",
                       "Dense SGBEM blocks V, K, D of a closed surface and W, X, Y of crack sheets (thesis eq. 2.26, 2.38). "
                       "With 'previous', the surface blocks are reused when the surface and settings are unchanged, and only "
-                      "crack elements appended since then are integrated (each element pair exactly once).");
+                      "crack elements appended since then are integrated (each element pair exactly once). 'method' chooses "
+                      "how crack growth enters (ch. 5): full (every opening a BEM unknown), estimator (the cracks given to the "
+                      "first assembly are solved once; later growth carries openings estimated by eq. (5.5) whose influence "
+                      "f <- f - B du is integrated element by element, B and Y never assembled), or hybrid (full until the "
+                      "mesh exceeds 'switch_elements', then as estimator, fig. 40). Set it on the first assembly; the loop's "
+                      "assembly inherits it through 'previous'.");
     t.input<SurfaceMesh>("mesh", "closed, outward-oriented ordinary surface (BEM resolution)");
     t.optional_input<SurfaceMesh>("cracks", "open crack sheets strictly inside the body; regions are the cracks");
     t.optional_input<bem::BemOperators>("previous", "operators of the previous step, extended append-only");
     t.optional_input<Material>("material", "when connected, E and nu come from it (material.brittle) instead of the parameters");
+    t.optional_input<bem::CrackOpeningEstimate>("openings",
+                                                "openings estimated for nodes the fronts left behind (fracture.geometry); used "
+                                                "once growth is estimated, ignored by the full BEM");
     t.output<bem::BemOperators>("operators", "immutable; blocks shared with 'previous' where unchanged");
     t.param_real("E", 3.1e9, "Pa", "Young's modulus").above(0);
     t.param_real("nu", 0.327, "", "Poisson's ratio").range(0, 0.4999);
@@ -35,42 +40,49 @@ graph::NodeType assemble_node() {
     t.param_int("farfield_boost", 0, "extra far-field quadrature zones (0 = distance-based default)").range(0, 6);
     t.param_bool("single_layer", true, "assemble V (needed only when some region has a displacement condition)");
     t.param_real("memory_budget", 4, "GB", "refuse dense blocks above this size").above(0);
+    t.param_choice("method", "inherit", {"inherit", "full", "estimator", "hybrid"},
+                   "crack unknowns (ch. 5): full BEM, estimator, or hybrid; inherit = full on a first assembly, the previous "
+                   "operators' method with 'previous'");
+    t.param_int("switch_elements", 3000,
+                "method hybrid: BEM elements (surface + crack triangles) above which growth is estimated; below the "
+                "starting count the estimator runs from the first step (thesis fig. 40 used 3000)")
+        .at_least(0);
+    t.param_bool("opening_update", true,
+                 "estimated growth: integrate the estimated openings into the surface's right-hand side (ch. 5.2); false "
+                 "keeps the surface data of the switch, which underestimates K as the crack grows (thesis fig. 22a)");
     t.run([](graph::NodeContext& c) {
-        bem::AssemblyOptions opt;
-        opt.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
-        opt.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
-        opt.single_layer = c.boolean("single_layer");
-        opt.memory_budget_bytes = c.real("memory_budget") * 1e9;
-        Material mat;
-        mat.E = c.real("E");
-        mat.nu = c.real("nu");
-        if (c.has("material")) mat = c.in<Material>("material");
-        const SurfaceMesh& mesh = c.in<SurfaceMesh>("mesh");
+        bem::AssemblyRequest rq;
+        rq.opening_update = c.boolean("opening_update");
+        rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
+        rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
+        rq.options.single_layer = c.boolean("single_layer");
+        rq.options.memory_budget_bytes = c.real("memory_budget") * 1e9;
+        rq.material.E = c.real("E");
+        rq.material.nu = c.real("nu");
+        if (c.has("material")) rq.material = c.in<Material>("material");
+        rq.mesh = &c.in<SurfaceMesh>("mesh");
+        if (c.has("cracks")) rq.cracks = &c.in<SurfaceMesh>("cracks");
+        if (c.has("previous")) rq.previous = &c.in<bem::BemOperators>("previous");
+        if (c.has("openings")) rq.openings = &c.in<bem::CrackOpeningEstimate>("openings");
+        if (c.string("method") != "inherit") rq.method = bem::parse_crack_method(c.string("method"));
+        rq.switch_elements = c.integer("switch_elements");
+        rq.step = c.iteration() + 1;
+        bem::AssemblyReport rep;
         bem::BemOperators out;
         try {
-            const bem::BemOperators* prev = c.has("previous") ? &c.in<bem::BemOperators>("previous") : nullptr;
-            const bem::ElasticConstants ec(mat.E, mat.nu);
-            if (prev && prev->surface && same_mesh(prev->surface->mesh, mesh) && prev->surface->elastic.mu == ec.mu &&
-                prev->surface->elastic.nu == ec.nu && prev->surface->options.single_layer == opt.single_layer &&
-                prev->surface->options.quadrature.singular_order == opt.quadrature.singular_order &&
-                prev->surface->options.quadrature.farfield_boost == opt.quadrature.farfield_boost) {
-                out.surface = prev->surface;
-                c.count("surface_reused", 1);
-            } else {
-                prev = nullptr;
-                out.surface = bem::assemble_surface_operators(mesh, mat, opt);
-                c.count("surface_reused", 0);
-            }
-            c.count("surface_pairs_computed", prev ? 0.0 : static_cast<double>(out.surface->pairs_computed));
-            if (c.has("cracks") && c.in<SurfaceMesh>("cracks").num_triangles() > 0) {
-                out.cracks = bem::append_crack_elements(*out.surface, prev ? prev->cracks : nullptr, c.in<SurfaceMesh>("cracks"));
-                c.count("crack_pairs_computed", static_cast<double>(out.cracks->pairs_computed_last));
-                c.count("crack_triangles", static_cast<double>(out.cracks->cracks.num_triangles()));
-            }
+            out = bem::assemble_step(rq, rep);
         } catch (const std::invalid_argument& e) {
             c.fail(e.what());
         }
-        c.count("triangles", static_cast<double>(mesh.num_triangles()));
+        c.count("surface_reused", rep.surface_reused ? 1 : 0);
+        c.count("surface_pairs_computed", rep.surface_reused ? 0.0 : static_cast<double>(out.surface->pairs_computed));
+        c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
+        if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
+        c.count("elements", static_cast<double>(rep.elements));
+        c.count("growth_estimated", rep.estimated ? 1 : 0);
+        if (rep.switched) c.count("switched_to_estimator", 1);
+        if (out.estimated) c.count("estimated_nodes_added", static_cast<double>(out.estimated->nodes_last));
+        c.count("triangles", static_cast<double>(rq.mesh->num_triangles()));
         c.out("operators", std::move(out));
     });
     return t;
@@ -101,7 +113,7 @@ graph::NodeType solve_node() {
             if (ops.cracks) loads.pressure.assign(ops.cracks->cracks.num_regions(), c.real("crack_pressure"));
             bem::SolveOptions so;
             so.balance_tolerance = c.real("balance_tolerance");
-            sol = bem::solve_sgbem(ops.surface, ops.cracks, bc, loads, prev, so);
+            sol = bem::solve_sgbem(ops.surface, ops.cracks, bc, loads, prev, so, ops.estimated);
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("parameter boundary_conditions / inputs: ") + e.what());
         } catch (const std::runtime_error& e) {
@@ -112,6 +124,7 @@ graph::NodeType solve_node() {
         c.count("schur_rows_added", static_cast<double>(sol->schur_rows_added));
         c.count("residual_force", sol->residual_force.norm());
         c.count("residual_torque", sol->residual_torque.norm());
+        c.count("growth_estimated", sol->estimated ? 1 : 0);
         c.out_shared("solution", sol);
     });
     return t;

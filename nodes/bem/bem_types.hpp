@@ -2,6 +2,7 @@
 // The operator state that flows between assemble.sgbem, solve.sgbem and later steps: immutable
 // and shared. A new step copies the small handle and shares the surface blocks; crack blocks are
 // copied on write when elements are appended (append_crack_elements).
+#include "nodes/bem/estimated_growth.hpp"
 #include "nodes/bem/operators.hpp"
 #include "nodes/bem/solver.hpp"
 
@@ -11,7 +12,10 @@ namespace cf::bem {
 
 struct BemOperators {
     std::shared_ptr<const SurfaceOperators> surface;
-    std::shared_ptr<const CrackOperators> cracks;  // null without cracks
+    std::shared_ptr<const CrackOperators> cracks;  // null without cracks; the frozen part once growth is estimated
+    CrackMethod method = CrackMethod::full;        // chosen on the first assembly, kept by every later one
+    long long switch_elements = 0;                 // hybrid: elements (surface + crack) above which growth is estimated
+    std::shared_ptr<const EstimatedGrowth> estimated;  // null while every crack opening is a BEM unknown
 };
 
 }  // namespace cf::bem

@@ -177,7 +177,8 @@ void load_resultants(const SurfaceOperators& s, const std::vector<Vec3>& tractio
 std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const SurfaceOperators>& surface,
                                                const std::shared_ptr<const CrackOperators>& cracks,
                                                const ResolvedConditions& bc, const CrackLoads& loads,
-                                               const BemSolution* previous, const SolveOptions& options) {
+                                               const BemSolution* previous, const SolveOptions& options,
+                                               const std::shared_ptr<const EstimatedGrowth>& estimated) {
     const SurfaceOperators& o = *surface;
     const std::size_t M = o.geometry.size(), N = o.mesh.num_vertices();
     if (bc.dirichlet.size() != M || bc.node_fixed.size() != N)
@@ -229,6 +230,21 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
         rhs.head(idxD.size()) = r1(idxD);
         rhs.tail(idxN.size()) = r2(idxN);
     }
+    if (estimated) {
+        // Estimated openings du on the right-hand side (eq. 4.2, first row): A s = f - B w with w = -du.
+        const EstimatedGrowth& eg = *estimated;
+        if (eg.k_opening.size() != 3 * static_cast<Eigen::Index>(M) || eg.d_opening.size() != 3 * static_cast<Eigen::Index>(N))
+            throw std::invalid_argument("estimated crack growth was integrated against a different surface mesh");
+        if (sys.pure_neumann) {
+            rhs += o.D.transpose() * eg.d_opening;  // through the normal equations of eq. (7.4)
+        } else {
+            const auto idxD = dofs3(sys.d_elements);
+            const auto idxN = dofs3(sys.n_nodes);
+            rhs.head(idxD.size()) -= eg.k_opening(idxD);
+            rhs.tail(idxN.size()) += eg.d_opening(idxN);
+        }
+        sol->estimated = estimated;
+    }
     Vector s = sys.solve(rhs);
     // Cracks: Schur complement on interior crack nodes (eq. 4.3).
     std::vector<Vec3> cod;
@@ -250,7 +266,7 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                 for (int v : cr.cracks.triangles[t])
                     if (was_dof[v]) extend = false;  // the support of an old unknown changed
         }
-        const Matrix Yfull = cr.Y();
+        Matrix Yfull;
         if (extend) {
             std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
             for (int v : old->dof_nodes) was_dof[v] = 1;
@@ -267,6 +283,7 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                 sol->extended_schur = true;
                 sol->schur_rows_added = 0;
             } else {
+                Yfull = cr.Y();
                 const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old->dof_nodes.size());
                 const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
                 const CrackCoupling cn = coupling(sys, cr, fresh);
@@ -300,6 +317,7 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
             const CrackCoupling c = coupling(sys, cr, schur->dof_nodes);
             schur->Z = solve_matrix(sys, c.B);
             const auto ic = dofs3(schur->dof_nodes);
+            Yfull = cr.Y();
             Matrix S = Yfull(ic, ic) - c.C * schur->Z;
             S = 0.5 * (S + S.transpose()).eval();
             Eigen::LLT<Matrix> llt(S);
@@ -337,6 +355,19 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
         for (std::size_t k = 0; k < sys.n_nodes.size(); ++k) sol->displacement[sys.n_nodes[k]] = s.segment<3>(off + 3 * k);
     }
     return sol;
+}
+
+const SurfaceMesh* current_crack_mesh(const BemSolution& sol) {
+    if (sol.estimated) return &sol.estimated->cracks;
+    return sol.cracks ? &sol.cracks->cracks : nullptr;
+}
+
+std::vector<Vec3> current_crack_opening(const BemSolution& sol) {
+    if (!sol.estimated) return sol.crack_opening;
+    std::vector<Vec3> out = sol.estimated->opening;
+    for (std::size_t v = 0; v < sol.crack_opening.size() && v < out.size(); ++v)
+        if (v < sol.estimated->frozen_unknown.size() && sol.estimated->frozen_unknown[v]) out[v] = sol.crack_opening[v];
+    return out;
 }
 
 }  // namespace cf::bem

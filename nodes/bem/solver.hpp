@@ -10,6 +10,7 @@
 // is extended by the new rows instead of recomputed. s = A^-1 (f - B w).
 #include "nodes/bem/boundary_conditions.hpp"
 #include "nodes/bem/dense_cholesky.hpp"
+#include "nodes/bem/estimated_growth.hpp"
 #include "nodes/bem/operators.hpp"
 
 #include <Eigen/Cholesky>
@@ -57,7 +58,10 @@ struct BemSolution {
     std::shared_ptr<const CrackSchur> schur;          // null without crack unknowns
     std::vector<Vec3> displacement;                   // per surface node [m]
     std::vector<Vec3> traction;                       // per surface element [Pa]
-    std::vector<Vec3> crack_opening;                  // per crack node, [u] = u+ - u- (0 at the front) [m]
+    std::vector<Vec3> crack_opening;                  // per node of cracks->cracks, [u] = u+ - u- (0 at the front) [m]
+    // Growth past the system (thesis ch. 5.2): the whole current crack mesh with estimated openings;
+    // null while every crack opening is a BEM unknown. `cracks` above is then the frozen part.
+    std::shared_ptr<const EstimatedGrowth> estimated;
     Vec3 residual_force = Vec3::Zero();               // net load [N] (pure Neumann)
     Vec3 residual_torque = Vec3::Zero();              // about the surface centroid [N m]
     bool reused_surface_factor = false;
@@ -75,10 +79,20 @@ std::vector<char> crack_interior_nodes(const SurfaceMesh& cracks);
 
 // Solves. `previous` (may be null) provides factorisations to reuse: the surface factor when
 // operators and partition match, and the Schur factor when the crack mesh only grew.
+// `estimated` (may be null): growth outside the system (ch. 5.2); its openings enter the surface
+// rows of the right-hand side as f <- f - B du (B du from EstimatedGrowth::k_opening, d_opening),
+// the rows of the frozen crack unknowns keep their right-hand side, and with `previous` from the
+// same system the stored factorisations are reused (one forward/back substitution).
 std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const SurfaceOperators>& surface,
                                                const std::shared_ptr<const CrackOperators>& cracks,
                                                const ResolvedConditions& bc, const CrackLoads& loads,
-                                               const BemSolution* previous, const SolveOptions& options = {});
+                                               const BemSolution* previous, const SolveOptions& options = {},
+                                               const std::shared_ptr<const EstimatedGrowth>& estimated = nullptr);
+
+// The crack mesh of a solution: the estimated growth's when there is one, else the system's (null: none).
+const SurfaceMesh* current_crack_mesh(const BemSolution& sol);
+// Opening per vertex of current_crack_mesh: solved where the system has unknowns, estimated elsewhere.
+std::vector<Vec3> current_crack_opening(const BemSolution& sol);
 
 // Net force and torque (about the area centroid) of per-element tractions.
 void load_resultants(const SurfaceOperators& s, const std::vector<Vec3>& traction, Vec3& force, Vec3& torque);

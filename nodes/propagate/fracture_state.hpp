@@ -5,6 +5,7 @@
 // pipeline: initiate.* nodes append cracks, propagate.fronts moves the fronts, records the swept
 // surfaces and grows the sheets. Immutable once published; nodes copy and modify.
 #include "graph/value.hpp"
+#include "nodes/bem/estimated_growth.hpp"
 #include "nodes/levelset/crack_grids.hpp"
 #include "nodes/propagate/front_markers.hpp"
 
@@ -29,6 +30,7 @@ struct FractureState {
     int step = 0;                    // BEM time steps completed
     int cracks_initiated = 0;        // cracks added by stress-based initiation (user-given ones not counted)
     std::size_t elements_added = 0;  // crack triangles added in the last step (initiation and growth)
+    bem::CrackOpeningEstimate openings;  // eq. (5.5)-(5.6) for nodes fronts left behind (used once growth is estimated)
 
     int num_cracks() const { return static_cast<int>(grids.cracks.size()); }
     bool has_active_markers() const;  // some front is fresh or has an active marker

@@ -1,5 +1,7 @@
 #include "nodes/propagate/fracture_step.hpp"
 
+#include "nodes/propagate/opening_estimate.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -260,6 +262,7 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
         };
         if (object) gs.inside = [&](const Vec3& p) { return sample(*object, p) < 0; };
         const FrontGrowth g = grow_front(state.cracks, fs.front, fs.markers, gs);
+        rep.openings_estimated += estimate_openings_left_behind(state.cracks, fs.front, g.front, law.E, law.nu, state.openings);
         fs.front = g.front;
         fs.markers = g.markers;
         rep.elements_added += g.added_triangles;
@@ -272,6 +275,8 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
         for (double x : d) rep.max_marker_travel = std::max(rep.max_marker_travel, x);
     rep.grow_seconds += seconds_since(t0);
 
+    state.openings.opening.resize(state.cracks.num_vertices(), Vec3::Zero());
+    state.openings.known.resize(state.cracks.num_vertices(), 0);
     state.grids = recorder.release();
     state.step += 1;
     state.elements_added = rep.elements_added;

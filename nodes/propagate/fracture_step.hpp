@@ -28,6 +28,7 @@ struct StepReport {
     std::size_t hits_left_object = 0, hits_crossed_crack = 0, hits_self_intersection = 0;
     std::size_t voxels_written = 0;
     std::size_t elements_added = 0, vertices_added = 0;
+    std::size_t openings_estimated = 0;  // nodes left behind by a front, with an opening of eq. (5.5)
     int edges_kept = 0, edges_split = 0, edges_contracted = 0;  // fig. 16 (a), (b), (c)
     int substeps = 0;
     double max_marker_travel = 0;    // [m] over the step

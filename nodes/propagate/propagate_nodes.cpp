@@ -116,6 +116,7 @@ graph::NodeType fronts_node() {
         c.count("hits_crossed_crack", static_cast<double>(r.hits_crossed_crack));
         c.count("hits_self_intersection", static_cast<double>(r.hits_self_intersection));
         c.count("elements_added", static_cast<double>(r.elements_added));
+        c.count("openings_estimated", static_cast<double>(r.openings_estimated));
         c.count("crack_elements", static_cast<double>(s.cracks.num_triangles()));
         c.count("voxels_written", static_cast<double>(r.voxels_written));
         c.count("max_marker_travel_m", r.max_marker_travel);
@@ -136,6 +137,9 @@ graph::NodeType geometry_node() {
     t.input<propagate::FractureState>("state", "a fracture state");
     t.output<SurfaceMesh>("cracks", "BEM crack sheets; region r is crack r");
     t.output<CrackLevelSets>("grids", "one thickened crack grid per crack [m]");
+    t.output<bem::CrackOpeningEstimate>("openings",
+                                        "openings [m] estimated for crack nodes the fronts left behind (eq. 5.5-5.6), for "
+                                        "assemble.sgbem once crack growth is estimated (method estimator or hybrid)");
     t.run([](graph::NodeContext& c) {
         const propagate::FractureState& s = c.in<propagate::FractureState>("state");
         c.count("cracks", s.num_cracks());
@@ -143,6 +147,10 @@ graph::NodeType geometry_node() {
         c.count("steps", s.step);
         c.out("cracks", s.cracks);
         c.out("grids", s.grids);
+        bem::CrackOpeningEstimate openings = s.openings;
+        openings.opening.resize(s.cracks.num_vertices(), Vec3::Zero());
+        openings.known.resize(s.cracks.num_vertices(), 0);
+        c.out("openings", std::move(openings));
     });
     return t;
 }

@@ -1,0 +1,259 @@
+#include "nodes/estimate/sif_estimator.hpp"
+
+#include "nodes/initiate/surface_queries.hpp"
+#include "nodes/initiate/surface_stress.hpp"
+#include "nodes/propagate/crack_front.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace cf::estimate {
+
+namespace {
+
+constexpr double kMinCos = 1.0 / 3.0;  // cos(theta*) >= 1/3: |theta*| below ~70.5 degrees (ch. 5.1)
+
+// Front edge records in front order: per front, its edges (v0 < v1) with the triangle they bound.
+struct FrontEdge {
+    int v0, v1, tri, region;
+};
+
+std::vector<std::vector<FrontEdge>> front_edges(const SurfaceMesh& cracks) {
+    std::map<std::pair<int, int>, std::vector<int>> edge_tris;
+    for (std::size_t t = 0; t < cracks.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int a = cracks.triangles[t][k], b = cracks.triangles[t][(k + 1) % 3];
+            edge_tris[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+        }
+    std::vector<std::vector<FrontEdge>> out;
+    for (const propagate::CrackFront& f : propagate::extract_fronts(cracks)) {
+        std::vector<FrontEdge> edges;
+        const std::size_t n = f.nodes.size();
+        for (std::size_t i = 0; i < f.num_edges(); ++i) {
+            const int a = f.nodes[i], b = f.nodes[(i + 1) % n];
+            const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+            edges.push_back({key.first, key.second, edge_tris.at(key).front(), f.region});
+        }
+        out.push_back(std::move(edges));
+    }
+    return out;
+}
+
+// Frame of displacement correlation (bem/displacement_correlation.cpp): e2 the triangle normal,
+// e1 in its plane across the edge, away from the third vertex, e3 = e1 x e2.
+void edge_frame(const SurfaceMesh& c, const FrontEdge& e, Vec3& e1, Vec3& e2, Vec3& e3) {
+    const Tri& t = c.triangles[e.tri];
+    int third = -1;
+    for (int v : t)
+        if (v != e.v0 && v != e.v1) third = v;
+    const Vec3 p0 = c.vertices[e.v0], p1 = c.vertices[e.v1];
+    e2 = (c.vertices[t[1]] - c.vertices[t[0]]).cross(c.vertices[t[2]] - c.vertices[t[0]]).normalized();
+    e1 = (p1 - p0).normalized().cross(e2);
+    if (e1.dot(p0 - c.vertices[third]) < 0) e1 = -e1;
+    e3 = e1.cross(e2);
+}
+
+// Closest surface triangle to p: index and distance.
+std::pair<std::size_t, double> closest_surface_triangle(const bem::SurfaceOperators& s, const Vec3& p) {
+    std::size_t best = 0;
+    double dist = std::numeric_limits<double>::infinity();
+    for (std::size_t a = 0; a < s.geometry.size(); ++a) {
+        const auto& g = s.geometry[a];
+        const double d = (p - initiate::closest_point_on_triangle(p, g.p[0], g.p[1], g.p[2])).norm();
+        if (d < dist) {
+            dist = d;
+            best = a;
+        }
+    }
+    return {best, dist};
+}
+
+void smooth_along(std::vector<Mat3>& sigma, bool closed, int passes) {
+    const std::size_t n = sigma.size();
+    if (n < 2) return;
+    for (int p = 0; p < passes; ++p) {
+        std::vector<Mat3> next(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            Mat3 sum = sigma[i];
+            double w = 1;
+            if (i > 0 || closed) {
+                sum += sigma[(i + n - 1) % n];
+                w += 1;
+            }
+            if (i + 1 < n || closed) {
+                sum += sigma[(i + 1) % n];
+                w += 1;
+            }
+            next[i] = sum / w;  // renormalised: an end keeps its full weight
+        }
+        sigma.swap(next);
+    }
+}
+
+}  // namespace
+
+InteriorFrontMeans interior_front_means(const bem::SurfaceOperators& surface, const SurfaceMesh& cracks,
+                                        const std::vector<bem::FrontEdgeSif>& sifs, double near_surface, double nu) {
+    InteriorFrontMeans m;
+    for (const auto& r : sifs) {
+        const Vec3 p = 0.5 * (cracks.vertices[r.v0] + cracks.vertices[r.v1]);
+        const auto [tri, dist] = closest_surface_triangle(surface, p);
+        if (dist < near_surface * surface.geometry[tri].diameter) continue;
+        m.KI += r.KI;
+        const propagate::Sifs K{r.KI, r.KII, r.KIII};
+        m.kink_deg += propagate::kink_angle(propagate::mode_i_iii_sif(K, nu), r.KII) * 180 / M_PI;
+        ++m.edges;
+    }
+    if (m.edges) {
+        m.KI /= static_cast<double>(m.edges);
+        m.kink_deg /= static_cast<double>(m.edges);
+    }
+    return m;
+}
+
+double eta_for_kink(double theta) {
+    const double t = std::tan(0.5 * theta);
+    return t / (2 * t * t - 1);  // eq. (5.2)
+}
+
+Vec3 basic_estimate(const Mat3& sigma, const Vec3& e1, const Vec3& e2, const Vec3& e3, double scale, double sqrt_pi_a) {
+    const Vec3 q = sigma * e2;  // traction on the crack plane, eq. (5.1)
+    const double f = scale * sqrt_pi_a;
+    return {f * e2.dot(q), f * e1.dot(q), f * e3.dot(q)};
+}
+
+Vec3 aligned_estimate(const Mat3& sigma, const Vec3& e1, const Vec3& e2, const Vec3& e3, double nu, double scale,
+                      double sqrt_pi_a, double fc, int* choice) {
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(0.5 * (sigma + sigma.transpose()));
+    const Vec3 l = es.eigenvalues();  // ascending
+    const Mat3 v = es.eigenvectors();
+    // cos(theta*) of direction k: the crack normal turned onto v_k within the (e2, e1) plane.
+    auto cos_theta = [&](int k) {
+        const Vec3 vk = v.col(k);
+        const double a = vk.dot(e2), b = vk.dot(e1);
+        const double r = std::hypot(a, b);
+        return r > 0 ? std::abs(a) / r : 0.0;
+    };
+    int k = 2, which = 0;
+    if (cos_theta(2) < kMinCos) {
+        const bool compressive_first = l[0] < 0 && -l[0] / std::max(fc, 1e-300) > l[1];
+        const int first = compressive_first ? 0 : 1, second = compressive_first ? 1 : 0;
+        if (cos_theta(first) >= kMinCos) {
+            k = first;
+            which = compressive_first ? 2 : 1;
+        } else {
+            k = second;
+            which = 3;
+        }
+    }
+    if (choice) *choice = which;
+    Vec3 dir = v.col(k);
+    if (dir.dot(e2) < 0) dir = -dir;  // eigenvectors are defined up to sign: face the crack normal
+    const double lambda = l[k];
+    // theta*: the propagation direction sin(theta) e2 + cos(theta) e1 turns the normal e2 into
+    // cos(theta) e2 - sin(theta) e1, which should be parallel to v projected into (e2, e1).
+    const double a = dir.dot(e2), b = dir.dot(e1);
+    const double theta = (std::hypot(a, b) > 0 && std::abs(a) < 0.9999 * std::hypot(a, b)) ? std::atan2(-b, a) : 0.0;
+    const double eta = eta_for_kink(theta);
+    const double s = scale * sqrt_pi_a / std::sqrt(1 + eta * eta);  // eq. (5.3)
+    // Mode I / III split by the angle alpha between v and the front tangent, in the (e2, e3) plane (eq. 5.4).
+    const double c3 = dir.dot(e3), r3 = std::hypot(a, c3);
+    const double cos_alpha = r3 > 0 ? c3 / r3 : 0.0;
+    const double KI = s * lambda * std::sqrt(1 - std::abs(cos_alpha));
+    const double KII = s * lambda * eta;
+    // Sign of K_III as the basic estimator gives it for sigma = lambda v v^T: e3^T sigma e2 = lambda (v.e2)(v.e3).
+    const double KIII = s * lambda * (cos_alpha < 0 ? -1.0 : 1.0) * std::sqrt(std::abs(cos_alpha) * (1 - nu));
+    return {KI, KII, KIII};
+}
+
+std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const SurfaceMesh& cracks,
+                                             const SifEstimatorSettings& set, SifEstimatorReport* report) {
+    if (!sol.surface) throw std::invalid_argument("SIF estimator: the solution has no surface");
+    if (cracks.num_triangles() == 0)
+        throw std::invalid_argument("SIF estimator: there is no crack front yet (no crack sheet); connect it where cracks exist, "
+                                    "or use sif.fronts, which waits for them");
+    const bem::SurfaceOperators& s = *sol.surface;
+    const double nu = s.elastic.nu, E = 2 * s.elastic.mu * (1 + nu);
+    // Coarse crack areas, one face (eq. 5.1).
+    std::vector<double> area(static_cast<std::size_t>(cracks.num_regions()), 0.0);
+    for (std::size_t t = 0; t < cracks.num_triangles(); ++t) {
+        const Tri& tr = cracks.triangles[t];
+        area[cracks.region_of(t)] +=
+            0.5 * (cracks.vertices[tr[1]] - cracks.vertices[tr[0]]).cross(cracks.vertices[tr[2]] - cracks.vertices[tr[0]]).norm();
+    }
+    const auto fronts = front_edges(cracks);
+    if (fronts.empty()) throw std::invalid_argument("SIF estimator: the crack sheets have no front");
+    for (const auto& f : fronts) {
+        const double A = area[f.front().region];
+        if (!(A > 0))
+            throw std::invalid_argument("SIF estimator: crack '" + cracks.region_name(f.front().region) +
+                                        "' has zero area; its coarse sheet needs triangles of positive area");
+    }
+    // Evaluation points: near-surface ones take the closest triangle's surface stress.
+    std::vector<Vec3> points;
+    std::vector<std::pair<std::size_t, std::size_t>> where;  // (front, edge) of each interior point
+    std::vector<std::vector<Mat3>> sigma(fronts.size());
+    SifEstimatorReport rep;
+    for (std::size_t f = 0; f < fronts.size(); ++f) {
+        sigma[f].assign(fronts[f].size(), Mat3::Zero());
+        for (std::size_t i = 0; i < fronts[f].size(); ++i) {
+            const FrontEdge& e = fronts[f][i];
+            const Vec3 p = 0.5 * (cracks.vertices[e.v0] + cracks.vertices[e.v1]);
+            const auto [tri, dist] = closest_surface_triangle(s, p);
+            if (dist < set.near_surface * s.geometry[tri].diameter) {
+                const auto& g = s.geometry[tri];
+                const std::array<Vec3, 3> u = {sol.displacement[g.nodes[0]], sol.displacement[g.nodes[1]],
+                                               sol.displacement[g.nodes[2]]};
+                sigma[f][i] = initiate::surface_stress(g.p, u, sol.traction[tri], E, nu);  // eq. (4.6)
+                ++rep.surface_points;
+            } else {
+                points.push_back(p);
+                where.emplace_back(f, i);
+            }
+        }
+    }
+    if (!points.empty()) {
+        const std::vector<Mat3> st = bem::interior_stress(sol, points, false, set.quadrature);  // eq. (2.23), no crack term
+        for (std::size_t k = 0; k < points.size(); ++k) sigma[where[k].first][where[k].second] = st[k];
+    }
+    rep.interior_points = points.size();
+    std::vector<bem::FrontEdgeSif> out;
+    for (std::size_t f = 0; f < fronts.size(); ++f) {
+        smooth_along(sigma[f], true, set.smoothing_passes);  // extract_fronts gives closed loops
+        const double sqrt_pi_a = std::pow(M_PI * area[fronts[f].front().region], 0.25);
+        for (std::size_t i = 0; i < fronts[f].size(); ++i) {
+            const FrontEdge& e = fronts[f][i];
+            bem::FrontEdgeSif r;
+            r.v0 = e.v0;
+            r.v1 = e.v1;
+            edge_frame(cracks, e, r.e1, r.e2, r.e3);
+            Vec3 K;
+            if (set.kind == EstimatorKind::basic) {
+                K = basic_estimate(sigma[f][i], r.e1, r.e2, r.e3, set.scale, sqrt_pi_a);
+            } else {
+                int choice = 0;
+                K = aligned_estimate(sigma[f][i], r.e1, r.e2, r.e3, nu, set.scale, sqrt_pi_a, set.compressive_factor, &choice);
+                if (choice == 1) ++rep.second_choices;
+                if (choice == 2) ++rep.compressive_choices;
+                if (choice == 3) ++rep.third_choices;
+            }
+            r.KI = K[0];
+            r.KII = K[1];
+            r.KIII = K[2];
+            out.push_back(r);
+        }
+    }
+    // Same order as displacement correlation: by edge (v0, v1).
+    std::sort(out.begin(), out.end(), [](const bem::FrontEdgeSif& a, const bem::FrontEdgeSif& b) {
+        return std::make_pair(a.v0, a.v1) < std::make_pair(b.v0, b.v1);
+    });
+    if (report) *report = rep;
+    return out;
+}
+
+}  // namespace cf::estimate
