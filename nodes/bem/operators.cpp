@@ -18,7 +18,9 @@ double surface_operator_bytes(std::size_t M, std::size_t N, bool single_layer) {
 
 double crack_operator_bytes(std::size_t Ms, std::size_t Ns, std::size_t Nc) {
     const double c = 3.0 * Nc;
-    return 8.0 * (3.0 * Ms * c + 3.0 * Ns * c + c * c) * 2;  // copy-on-write keeps the previous step
+    // W, X, HY twice (copy-on-write keeps the previous step), then the solver's Y, Schur factor and
+    // A^-1 B (about 3 (Ms + Ns) x c).
+    return 8.0 * ((3.0 * Ms * c + 3.0 * Ns * c + c * c) * 2 + 2 * c * c + 3.0 * (Ms + Ns) * c);
 }
 
 void check_memory_budget(double bytes, double budget, const std::string& what) {
@@ -172,9 +174,15 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
                                         " triangles, " + std::to_string(old_verts) +
                                         " vertices must stay unchanged at the front); crack elements can only be appended");
     }
-    check_memory_budget(crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), cracks.num_vertices()),
-                        surface.options.memory_budget_bytes,
-                        "crack blocks for " + std::to_string(cracks.num_vertices()) + " crack nodes");
+    try {
+        check_memory_budget(crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), cracks.num_vertices()),
+                            surface.options.memory_budget_bytes,
+                            "crack blocks for " + std::to_string(cracks.num_vertices()) + " crack nodes");
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(e.what()) +
+                                    "; or keep the crack blocks from growing: assemble.sgbem method: hybrid (with switch_elements "
+                                    "below this size) or method: estimator (thesis ch. 5)");
+    }
     auto out = previous ? std::make_shared<CrackOperators>(*previous) : std::make_shared<CrackOperators>();
     out->cracks = cracks;
     for (std::size_t t = old_tris; t < cracks.num_triangles(); ++t) {

@@ -1,0 +1,108 @@
+// sif.fronts, sif.estimator and the estimator options of assemble.sgbem through the node harness.
+#include "nodes/bem/bem_types.hpp"
+#include "nodes/bem/displacement_correlation.hpp"
+#include "nodes/bem/test_meshes.hpp"
+#include "nodes/estimate/estimate_verification.hpp"
+#include "tests/harness/node_harness.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace cf;
+using cf::testing::run_node;
+using cf::testing::value;
+
+namespace {
+
+void expect_error(const std::function<void()>& f, const std::vector<std::string>& parts) {
+    try {
+        f();
+        FAIL() << "no error";
+    } catch (const std::exception& e) {
+        for (const auto& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+    }
+}
+
+const char* kPull = "z_max: traction 0 0 1e6; z_min: displacement 0 0 0; *: traction 0 0 0";
+
+SurfaceMesh sheet() { return estimate::rectangle_sheet(Vec3(-0.1, -0.1, 0.02), Vec3(0.2, 0, 0), Vec3(0, 0.2, 0), 2, 2); }
+
+}  // namespace
+
+TEST(EstimatorNodes, NoCrackFrontIsAnErrorForTheEstimatorAndWaitsInSifFronts) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(2, 1.0);
+    auto a = run_node("assemble.sgbem", {}, {{"mesh", value(cube)}});
+    auto s = run_node("solve.sgbem", {{"boundary_conditions", std::string(kPull)}}, {{"operators", a.outputs.at("operators")}});
+    expect_error([&] { run_node("sif.estimator", {}, {{"solution", s.outputs.at("solution")}}); },
+                 {"input 'solution'", "no crack front"});
+    auto f = run_node("sif.fronts", {}, {{"solution", s.outputs.at("solution")}});
+    EXPECT_TRUE(f.out<std::vector<bem::FrontEdgeSif>>("sifs").empty());
+}
+
+TEST(EstimatorNodes, NegativeSwitchThresholdIsRejectedNamingTheParameter) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(1, 1.0);
+    expect_error([&] { run_node("assemble.sgbem", {{"method", std::string("hybrid")}, {"switch_elements", -5LL}}, {{"mesh", value(cube)}}); },
+                 {"switch_elements"});
+}
+
+// A threshold below the starting count: the estimator from the first step (no crack unknowns).
+TEST(EstimatorNodes, ThresholdBelowTheStartMeansTheEstimatorFromTheFirstStep) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(2, 1.0);
+    auto a = run_node("assemble.sgbem", {{"method", std::string("hybrid")}, {"switch_elements", 10LL}},
+                      {{"mesh", value(cube)}, {"cracks", value(sheet())}});
+    const auto& ops = a.out<bem::BemOperators>("operators");
+    ASSERT_TRUE(ops.estimated);
+    EXPECT_FALSE(ops.cracks);  // no crack blocks
+    EXPECT_EQ(ops.estimated->switch_step, 0);
+    EXPECT_EQ(a.counts.at("switched_to_estimator"), 1);
+    auto s = run_node("solve.sgbem", {{"boundary_conditions", std::string(kPull)}}, {{"operators", a.outputs.at("operators")}});
+    auto f = run_node("sif.fronts", {}, {{"solution", s.outputs.at("solution")}});
+    EXPECT_EQ(f.counts.at("estimated"), 1);
+    EXPECT_EQ(f.out<std::vector<bem::FrontEdgeSif>>("sifs").size(), 8u);
+    // Above the count: the full BEM.
+    auto full = run_node("assemble.sgbem", {{"method", std::string("hybrid")}, {"switch_elements", 1000LL}},
+                         {{"mesh", value(cube)}, {"cracks", value(sheet())}});
+    EXPECT_FALSE(full.out<bem::BemOperators>("operators").estimated);
+    EXPECT_TRUE(full.out<bem::BemOperators>("operators").cracks);
+}
+
+TEST(EstimatorNodes, MethodIsChosenOnceAndOpeningsAreNeeded) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(2, 1.0);
+    SurfaceMesh s0 = sheet();
+    auto a0 = run_node("assemble.sgbem", {{"method", std::string("estimator")}}, {{"mesh", value(cube)}, {"cracks", value(s0)}});
+    expect_error([&] {
+        run_node("assemble.sgbem", {{"method", std::string("full")}},
+                 {{"mesh", value(cube)}, {"cracks", value(s0)}, {"previous", a0.outputs.at("operators")}});
+    }, {"'method'", "estimator", "first assembly"});
+    // A grown sheet without the opening estimate.
+    SurfaceMesh s1 = s0;
+    const int n = static_cast<int>(s1.num_vertices());
+    s1.vertices.push_back(Vec3(0.15, 0, 0.02));
+    s1.triangles.push_back({2, n, 5});
+    s1.region.push_back(0);
+    expect_error([&] {
+        run_node("assemble.sgbem", {}, {{"mesh", value(cube)}, {"cracks", value(s1)}, {"previous", a0.outputs.at("operators")}});
+    }, {"'openings'", "fracture.geometry"});
+    bem::CrackOpeningEstimate est;
+    est.opening.assign(s1.num_vertices(), Vec3::Zero());
+    est.known.assign(s1.num_vertices(), 0);
+    est.known[2] = 1;
+    est.opening[2] = Vec3(0, 0, 1e-6);
+    auto a1 = run_node("assemble.sgbem", {},
+                       {{"mesh", value(cube)}, {"cracks", value(s1)}, {"previous", a0.outputs.at("operators")},
+                        {"openings", value(est)}});
+    const auto& g = *a1.out<bem::BemOperators>("operators").estimated;
+    EXPECT_EQ(g.nodes_last, 1u);
+    EXPECT_GT(g.k_opening.norm(), 0);
+    // The memory kept does not grow with the crack: two vectors of the surface's size.
+    EXPECT_EQ(g.k_opening.size(), 3 * static_cast<Eigen::Index>(cube.num_triangles()));
+    EXPECT_EQ(g.d_opening.size(), 3 * static_cast<Eigen::Index>(cube.num_vertices()));
+}
+
+TEST(EstimatorNodes, FullBemOverBudgetSuggestsTheHybridSwitch) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(2, 1.0);
+    expect_error([&] {
+        // The surface blocks need 0.4 MB, the crack blocks of an 8 x 8 sheet 3.2 MB: a 1 MB budget refuses the latter.
+        const SurfaceMesh big = estimate::rectangle_sheet(Vec3(-0.1, -0.1, 0.02), Vec3(0.2, 0, 0), Vec3(0, 0.2, 0), 8, 8);
+        run_node("assemble.sgbem", {{"memory_budget", 1e-3}}, {{"mesh", value(cube)}, {"cracks", value(big)}});
+    }, {"GB", "hybrid"});
+}
