@@ -58,6 +58,8 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
     std::map<std::string, double> stops;
     // First and last assembly in time: (start of the run, elements), (end of the run, elements).
     double first_t = 1e300, last_t = -1, first_n = 0, last_n = 0;
+    // BEM step at which crack growth became estimated (assemble.sgbem method estimator / hybrid), -1: never.
+    double switch_step = -1;
     for (std::size_t i = 0; i < plan.nodes.size(); ++i) {
         const graph::NodeStats& s = result.stats[i];
         if (plan.nodes[i].is_loop()) {
@@ -68,6 +70,7 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
         for (std::size_t r = 0; r < std::size_t(s.runs); ++r) {
             const auto& c = run_counts(s, r);
             if (c.count("cracks_initiated")) cracks = std::max(cracks, c.at("cracks_initiated"));
+            if (s.type == "assemble.sgbem" && c.count("switched_to_estimator")) switch_step = count_or(c, "switch_step");
             if (s.type == "assemble.sgbem" && r < s.intervals.size()) {
                 const double n = count_or(c, "triangles") + count_or(c, "crack_triangles");
                 if (s.intervals[r].first < first_t) first_t = s.intervals[r].first, first_n = n;
@@ -99,6 +102,7 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
             w.key("elements_end").value(static_cast<long long>(last_n));
         }
         if (cracks >= 0) w.key("cracks_initiated").value(static_cast<long long>(cracks));
+        if (switch_step >= 0) w.key("switch_step").value(static_cast<long long>(switch_step));
         if (fragments >= 0) w.key("fragments").value(static_cast<long long>(fragments));
         if (!stops.empty()) {
             w.key("markers_stopped").begin_object();

@@ -80,7 +80,10 @@ graph::NodeType assemble_node() {
         if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
         c.count("elements", static_cast<double>(rep.elements));
         c.count("growth_estimated", rep.estimated ? 1 : 0);
-        if (rep.switched) c.count("switched_to_estimator", 1);
+        if (rep.switched) {
+            c.count("switched_to_estimator", 1);
+            c.count("switch_step", rq.step);  // BEM step: 0 for the assembly before the loop, k + 1 in iteration k
+        }
         if (out.estimated) c.count("estimated_nodes_added", static_cast<double>(out.estimated->nodes_last));
         c.count("triangles", static_cast<double>(rq.mesh->num_triangles()));
         c.out("operators", std::move(out));
