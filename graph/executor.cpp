@@ -226,7 +226,7 @@ private:
             st.iteration_counts.push_back(std::move(counts));
         }
         st.peak_rss_bytes = peak_rss_bytes();
-        {
+        if (options_.keep_outputs) {
             std::lock_guard<std::mutex> lock(outputs_mutex_);
             for (const auto& [port, v] : r.outputs) result_.outputs[p.name][port] = v;
         }
@@ -276,8 +276,10 @@ private:
             for (std::size_t k = 0; k < v; ++k) {
                 auto e = lr.find(key(SourceKind::LoopEach, p.loop_vars[k]));
                 if (e != lr.end()) send(e->second, next[k], iteration);
-                std::lock_guard<std::mutex> lock(outputs_mutex_);
-                result_.outputs[p.name][p.loop_vars[k]] = next[k];
+                if (options_.keep_outputs) {
+                    std::lock_guard<std::mutex> lock(outputs_mutex_);
+                    result_.outputs[p.name][p.loop_vars[k]] = next[k];
+                }
             }
             if (observer_) observer_->node_finished(p.name, iteration, 0);
             const bool last = !go_on || iteration + 1 >= p.max_iterations;

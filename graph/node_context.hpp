@@ -26,6 +26,10 @@ struct RunOptions {
     bool fast = false;  // reduced resolution for tests (nodes may lower their defaults)
     std::atomic<bool>* cancel_flag = nullptr;  // set by Ctrl-C handlers; the executor sets it on failure too
     std::function<void(const std::string& node, double fraction)> on_progress;
+    // Keep the last value of every output port in ExecutionResult::outputs (tests and verification
+    // cases read them). `crackflow run` turns it off so a value is freed once its consumers are done
+    // (the last BEM step's dense blocks during segmentation, for instance).
+    bool keep_outputs = true;
 };
 
 class NodeContext {

@@ -82,6 +82,7 @@ int run_command(const RunRequest& req) {
     options.fast = req.fast;
     options.cancel_flag = &g_interrupted;
     options.on_progress = [&](const std::string& node, double f) { progress.progress(node, f); };
+    options.keep_outputs = false;  // the report needs the counts only; values are freed once consumed
     graph::ExecutionResult result = graph::execute(plan, options, &progress);
     std::signal(SIGINT, previous);
     progress.finish();

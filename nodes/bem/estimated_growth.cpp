@@ -101,6 +101,7 @@ std::shared_ptr<const EstimatedGrowth> update_estimated_growth(const SurfaceOper
         ++joined;
     }
     out->nodes_last = joined;
+    out->front_active = openings.front_active;
     // (element, node) pairs not integrated yet, in element order.
     std::vector<PendingElement> pending;
     for (std::size_t t = 0; t < cracks.num_triangles(); ++t) {

@@ -19,6 +19,10 @@ namespace cf::bem {
 struct CrackOpeningEstimate {
     std::vector<Vec3> opening;  // [u] = u+ - u- [m], zero where unknown
     std::vector<char> known;    // per crack vertex: estimated
+    // Per crack vertex: a front node whose markers still move (a node of a new front, or a node
+    // of a front edge with an active marker). The SIF estimator evaluates the stress only there,
+    // as the thesis' code does (ch. 5.3: the cost is linear in the moving front). Empty: all move.
+    std::vector<char> front_active;
 };
 
 // Which crack unknowns the BEM system carries (thesis ch. 5, fig. 40).
@@ -36,6 +40,7 @@ struct EstimatedGrowth {
     std::vector<char> frozen_unknown;     // per frozen vertex: an opening unknown of the system (interior node)
     std::vector<Vec3> opening;            // per crack vertex: the estimated opening [m] (zero where none)
     std::vector<char> estimated;          // per crack vertex: has an estimated opening
+    std::vector<char> front_active;       // per crack vertex, from the last update (empty: every front moves)
     std::vector<unsigned char> integrated;  // per crack triangle: bit k = node k's opening is in k_opening/d_opening
     Vector k_opening;  // 3 M_Gamma: sum of K-type blocks times estimated openings = W(:, est) du
     Vector d_opening;  // 3 N_Gamma: the same with D-type blocks = X(:, est) du

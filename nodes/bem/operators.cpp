@@ -183,7 +183,13 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
                                     "; or keep the crack blocks from growing: assemble.sgbem method: hybrid (with switch_elements "
                                     "below this size) or method: estimator (thesis ch. 5)");
     }
-    auto out = previous ? std::make_shared<CrackOperators>(*previous) : std::make_shared<CrackOperators>();
+    // Copy-on-write without copying twice: the small members are copied, the dense blocks are
+    // allocated at their new size and the previous blocks copied into them (peak: old + new).
+    auto out = std::make_shared<CrackOperators>();
+    if (previous) {
+        out->geometry = previous->geometry;
+        out->pairs_computed = previous->pairs_computed;
+    }
     out->cracks = cracks;
     for (std::size_t t = old_tris; t < cracks.num_triangles(); ++t) {
         try {
@@ -197,14 +203,15 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
     const Eigen::Index Ms = static_cast<Eigen::Index>(surface.geometry.size());
     const Eigen::Index Ns = static_cast<Eigen::Index>(surface.mesh.num_vertices());
     const Eigen::Index Nc = static_cast<Eigen::Index>(cracks.num_vertices()), Nc0 = static_cast<Eigen::Index>(old_verts);
-    auto grow = [&](Matrix& m, Eigen::Index rows, Eigen::Index cols, Eigen::Index old_rows, Eigen::Index old_cols) {
-        m.conservativeResize(rows, cols);
+    auto grow = [&](Matrix& m, const Matrix* old, Eigen::Index rows, Eigen::Index cols, Eigen::Index old_rows, Eigen::Index old_cols) {
+        m.resize(rows, cols);
+        if (old && old_rows > 0 && old_cols > 0) m.topLeftCorner(old_rows, old_cols) = *old;
         m.rightCols(cols - old_cols).setZero();
         m.bottomRows(rows - old_rows).setZero();
     };
-    grow(out->W, 3 * Ms, 3 * Nc, 3 * Ms, 3 * Nc0);
-    grow(out->X, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
-    grow(out->HY, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
+    grow(out->W, previous ? &previous->W : nullptr, 3 * Ms, 3 * Nc, 3 * Ms, 3 * Nc0);
+    grow(out->X, previous ? &previous->X : nullptr, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
+    grow(out->HY, previous ? &previous->HY : nullptr, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
     const PairQuadrature quad(surface.options.quadrature);
     const ElasticConstants ec = surface.elastic;
     const auto& gs = surface.geometry;

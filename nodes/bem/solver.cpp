@@ -129,6 +129,44 @@ CrackCoupling coupling(const SurfaceSystem& sys, const CrackOperators& cr, const
     return out;
 }
 
+// Y(ia, ib) from its upper part (Y = HY + HY^T) without forming Y (c^2 doubles for a large crack).
+Matrix y_block(const CrackOperators& cr, const std::vector<Eigen::Index>& ia, const std::vector<Eigen::Index>& ib) {
+    return cr.HY(ia, ib) + cr.HY(ib, ia).transpose();
+}
+
+// C M for the coupling of `nodes` (see coupling()), from the blocks W and X in column chunks, so
+// that neither B nor C (size(s) x 3 nodes each) is formed: mixed C = [W_D,C^T, X_N,C^T], pure
+// Neumann C = X_C^T.
+Matrix coupling_c_times(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<int>& nodes, const Matrix& M) {
+    const auto idxC = dofs3(nodes);
+    const Eigen::Index k = static_cast<Eigen::Index>(idxC.size());
+    Matrix out(k, M.cols());
+    constexpr Eigen::Index chunk = 192;
+    const auto idxD = dofs3(sys.d_elements);
+    const auto idxN = dofs3(sys.n_nodes);
+    const Eigen::Index nd = static_cast<Eigen::Index>(idxD.size());
+    for (Eigen::Index c0 = 0; c0 < k; c0 += chunk) {
+        const Eigen::Index n = std::min(chunk, k - c0);
+        const std::vector<Eigen::Index> cols(idxC.begin() + c0, idxC.begin() + c0 + n);
+        if (sys.pure_neumann) {
+            const Matrix Xc = cr.X(Eigen::all, cols);
+            out.middleRows(c0, n).noalias() = Xc.transpose() * M;
+        } else {
+            Matrix part = Matrix::Zero(n, M.cols());
+            if (nd) {
+                const Matrix Wc = cr.W(idxD, cols);
+                part.noalias() += Wc.transpose() * M.topRows(nd);
+            }
+            if (!idxN.empty()) {
+                const Matrix Xc = cr.X(idxN, cols);
+                part.noalias() += Xc.transpose() * M.bottomRows(M.rows() - nd);
+            }
+            out.middleRows(c0, n) = part;
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 Eigen::Index SurfaceSystem::size() const {
@@ -266,7 +304,6 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                 for (int v : cr.cracks.triangles[t])
                     if (was_dof[v]) extend = false;  // the support of an old unknown changed
         }
-        Matrix Yfull;
         if (extend) {
             std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
             for (int v : old->dof_nodes) was_dof[v] = 1;
@@ -283,17 +320,15 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                 sol->extended_schur = true;
                 sol->schur_rows_added = 0;
             } else {
-                Yfull = cr.Y();
                 const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old->dof_nodes.size());
                 const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
                 const CrackCoupling cn = coupling(sys, cr, fresh);
-                const CrackCoupling co = coupling(sys, cr, old->dof_nodes);
                 const Matrix Zn = solve_matrix(sys, cn.B);
                 const auto io = dofs3(old->dof_nodes), in = dofs3(fresh);
-                Matrix Son = Yfull(io, in) - co.C * Zn;
-                const Matrix Sno = Yfull(in, io) - cn.C * old->Z;
+                Matrix Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old->dof_nodes, Zn);
+                const Matrix Sno = y_block(cr, in, io) - cn.C * old->Z;
                 Son = 0.5 * (Son + Sno.transpose());
-                Matrix Snn = Yfull(in, in) - cn.C * Zn;
+                Matrix Snn = y_block(cr, in, in) - cn.C * Zn;
                 Snn = 0.5 * (Snn + Snn.transpose()).eval();
                 const Matrix LnoT = old->L.triangularView<Eigen::Lower>().solve(Son);
                 Snn.noalias() -= LnoT.transpose() * LnoT;
@@ -317,8 +352,7 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
             const CrackCoupling c = coupling(sys, cr, schur->dof_nodes);
             schur->Z = solve_matrix(sys, c.B);
             const auto ic = dofs3(schur->dof_nodes);
-            Yfull = cr.Y();
-            Matrix S = Yfull(ic, ic) - c.C * schur->Z;
+            Matrix S = y_block(cr, ic, ic) - c.C * schur->Z;
             S = 0.5 * (S + S.transpose()).eval();
             Eigen::LLT<Matrix> llt(S);
             require(llt.info() == Eigen::Success, "crack Schur complement (eq. 4.3) is not positive definite; check crack orientation");
@@ -334,8 +368,7 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
             for (int v : cr.geometry[e].nodes) load.segment<3>(3 * v) -= p * cr.geometry[e].area / 3 * cr.geometry[e].normal;
         }
         Vector gc = load(ic) - cr.W(Eigen::all, ic).transpose() * f - cr.X(Eigen::all, ic).transpose() * g;
-        const CrackCoupling c = coupling(sys, cr, schur->dof_nodes);
-        gc -= c.C * s;
+        gc -= coupling_c_times(sys, cr, schur->dof_nodes, s);
         Vector w = schur->L.triangularView<Eigen::Lower>().solve(gc);
         schur->L.triangularView<Eigen::Lower>().transpose().solveInPlace(w);
         s -= schur->Z * w;

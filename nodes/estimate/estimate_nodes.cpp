@@ -9,8 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace cf {
@@ -65,6 +63,7 @@ void report(graph::NodeContext& c, const bem::BemSolution& sol, const SurfaceMes
         c.count("somigliana_points", static_cast<double>(rep->interior_points));
         c.count("surface_stress_points", static_cast<double>(rep->surface_points));
         c.count("compressive_directions", static_cast<double>(rep->compressive_choices));
+        c.count("edges_not_moving", static_cast<double>(rep->skipped_edges));
     }
 }
 
@@ -82,19 +81,14 @@ graph::NodeType fronts_node() {
         const SurfaceMesh* cracks = bem::current_crack_mesh(sol);
         try {
             if (sol.estimated) {
-                if (cracks && cracks->num_triangles() > 0) sifs = estimate::estimate_sifs(sol, *cracks, settings_of(c), &rep);
+                if (cracks && cracks->num_triangles() > 0)
+                    sifs = estimate::estimate_sifs(sol, *cracks, settings_of(c), &rep, &sol.estimated->front_active);
             } else if (cracks && cracks->num_triangles() > 0) {
                 const double mu = sol.surface->elastic.mu, nu = sol.surface->elastic.nu;
                 sifs = bem::displacement_correlation_sifs(*cracks, sol.crack_opening, 2 * mu * (1 + nu), nu);
             }
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("input 'solution' crack sheets: ") + e.what());
-        }
-        if (std::getenv("CF_DEBUG_SIFS")) {
-            for (const auto& r : sifs) {
-                const Vec3 m = 0.5 * (cracks->vertices[r.v0] + cracks->vertices[r.v1]);
-                std::fprintf(stderr, "SIF %d %d %d %.4f %.4f %.4f %.4g %.4g %.4g\n", c.iteration(), r.v0, r.v1, m.x(), m.y(), m.z(), r.KI, r.KII, r.KIII);
-            }
         }
         c.count("estimated", sol.estimated ? 1 : 0);
         report(c, sol, cracks, sifs, sol.estimated ? &rep : nullptr);

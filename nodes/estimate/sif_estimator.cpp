@@ -172,7 +172,8 @@ Vec3 aligned_estimate(const Mat3& sigma, const Vec3& e1, const Vec3& e2, const V
 }
 
 std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const SurfaceMesh& cracks,
-                                             const SifEstimatorSettings& set, SifEstimatorReport* report) {
+                                             const SifEstimatorSettings& set, SifEstimatorReport* report,
+                                             const std::vector<char>* moving) {
     if (!sol.surface) throw std::invalid_argument("SIF estimator: the solution has no surface");
     if (cracks.num_triangles() == 0)
         throw std::invalid_argument("SIF estimator: there is no crack front yet (no crack sheet); connect it where cracks exist, "
@@ -198,11 +199,19 @@ std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const 
     std::vector<Vec3> points;
     std::vector<std::pair<std::size_t, std::size_t>> where;  // (front, edge) of each interior point
     std::vector<std::vector<Mat3>> sigma(fronts.size());
+    std::vector<std::vector<char>> evaluated(fronts.size());
     SifEstimatorReport rep;
+    const bool all_move = !moving || moving->size() != cracks.num_vertices();
     for (std::size_t f = 0; f < fronts.size(); ++f) {
         sigma[f].assign(fronts[f].size(), Mat3::Zero());
+        evaluated[f].assign(fronts[f].size(), 0);
         for (std::size_t i = 0; i < fronts[f].size(); ++i) {
             const FrontEdge& e = fronts[f][i];
+            if (!all_move && !(*moving)[e.v0] && !(*moving)[e.v1]) {
+                ++rep.skipped_edges;
+                continue;
+            }
+            evaluated[f][i] = 1;
             const Vec3 p = 0.5 * (cracks.vertices[e.v0] + cracks.vertices[e.v1]);
             const auto [tri, dist] = closest_surface_triangle(s, p);
             if (dist < set.near_surface * s.geometry[tri].diameter) {
@@ -224,6 +233,19 @@ std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const 
     rep.interior_points = points.size();
     std::vector<bem::FrontEdgeSif> out;
     for (std::size_t f = 0; f < fronts.size(); ++f) {
+        // Edges not evaluated take the nearest evaluated edge's stress along the loop; a front
+        // without any is stopped and gets no record.
+        const std::size_t m = fronts[f].size();
+        bool any = false;
+        for (char e : evaluated[f]) any = any || e;
+        if (!any) continue;
+        for (std::size_t i = 0; i < m; ++i) {
+            if (evaluated[f][i]) continue;
+            for (std::size_t d = 1; d <= m; ++d) {
+                if (evaluated[f][(i + m - d) % m]) { sigma[f][i] = sigma[f][(i + m - d) % m]; break; }
+                if (evaluated[f][(i + d) % m]) { sigma[f][i] = sigma[f][(i + d) % m]; break; }
+            }
+        }
         smooth_along(sigma[f], true, set.smoothing_passes);  // extract_fronts gives closed loops
         const double sqrt_pi_a = std::pow(M_PI * area[fronts[f].front().region], 0.25);
         for (std::size_t i = 0; i < fronts[f].size(); ++i) {

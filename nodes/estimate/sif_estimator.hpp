@@ -46,14 +46,21 @@ struct SifEstimatorSettings {
 struct SifEstimatorReport {
     std::size_t interior_points = 0;  // Somigliana evaluations
     std::size_t surface_points = 0;   // surface-stress evaluations (near the surface)
+    std::size_t skipped_edges = 0;    // edges of stopped fronts or without a moving end (not evaluated)
     std::size_t compressive_choices = 0, second_choices = 0, third_choices = 0;  // principal directions other than the largest
 };
 
 // Per front edge of `cracks` (v0 < v1, as displacement correlation orders them). `sol` provides
-// the surface data. Throws std::invalid_argument naming the crack when a crack has zero area,
-// when the sheets have no front, or when a front's boundary is not a set of loops.
+// the surface data. `moving` (per crack vertex, may be null or empty: every front moves) marks the
+// front nodes whose markers still move: the stress is evaluated only at edges with a moving end
+// (as the thesis' code evaluates it only at nodes with an active marker); the other edges of a
+// front take the stress of the nearest evaluated edge along it, and a front with no moving node
+// gets no records (propagation counts it as stopped). Throws std::invalid_argument naming the
+// crack when a crack has zero area, when the sheets have no front, or when a front's boundary is
+// not a set of loops.
 std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const SurfaceMesh& cracks,
-                                             const SifEstimatorSettings& settings, SifEstimatorReport* report = nullptr);
+                                             const SifEstimatorSettings& settings, SifEstimatorReport* report = nullptr,
+                                             const std::vector<char>* moving = nullptr);
 
 // Front average of K_I over the edges whose midpoint lies farther from the ordinary surface than
 // `near_surface` times the longest edge of the closest surface triangle (where eq. 2.23 applies and

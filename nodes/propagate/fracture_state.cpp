@@ -1,5 +1,6 @@
 #include "nodes/propagate/fracture_state.hpp"
 
+#include <algorithm>
 #include <map>
 #include <stdexcept>
 
@@ -90,6 +91,24 @@ int add_crack(FractureState& state, const SurfaceMesh& sheet, const std::vector<
     rec.add_triangles(0, recorded);
     state.grids.cracks.push_back(rec.release().cracks.at(0));
     return region;
+}
+
+std::vector<char> moving_front_nodes(const FractureState& state) {
+    std::vector<char> out(state.cracks.num_vertices(), 0);
+    for (const FrontState& fs : state.fronts) {
+        const auto& nodes = fs.front.nodes;
+        const std::size_t n = nodes.size(), edges = fs.front.num_edges();
+        const int per = std::max(fs.markers.per_edge, 1);
+        const bool placed = !fs.fresh && fs.markers.markers.size() >= edges * static_cast<std::size_t>(per);
+        for (std::size_t i = 0; i < edges; ++i) {
+            bool active = !placed;
+            for (int k = 0; placed && !active && k < per; ++k) active = fs.markers.markers[i * per + k].active;
+            if (!active) continue;
+            if (nodes[i] < static_cast<int>(out.size())) out[nodes[i]] = 1;
+            if (nodes[(i + 1) % n] < static_cast<int>(out.size())) out[nodes[(i + 1) % n]] = 1;
+        }
+    }
+    return out;
 }
 
 }  // namespace cf::propagate

@@ -48,6 +48,10 @@ FractureState start_fracture_state(double r_c, double r_f, double half_width, st
 // Throws std::invalid_argument when the sheet is empty or has no interior node.
 int add_crack(FractureState& state, const SurfaceMesh& sheet, const std::vector<Triangle3>& recorded);
 
+// Per crack vertex: 1 for the nodes of fronts that have not propagated yet and for both nodes of
+// every front edge with an active marker (marker k of edge i is index i n + k), else 0.
+std::vector<char> moving_front_nodes(const FractureState& state);
+
 // Triangles of a mesh as geometry (e.g. to record a sheet).
 std::vector<Triangle3> mesh_triangles(const SurfaceMesh& m);
 

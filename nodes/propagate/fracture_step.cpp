@@ -247,8 +247,8 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
 
     // New BEM elements (fig. 16), away from the object's surface and from other cracks.
     t0 = Clock::now();
-    std::vector<LevelSet> grids_now;
-    if (!moving.empty()) grids_now = recorder.snapshot().cracks;
+    state.grids = recorder.release();  // recording is done; growth only samples the grids
+    const std::vector<LevelSet>& grids_now = state.grids.cracks;
     for (std::size_t f : moving) {
         FrontState& fs = state.fronts[f];
         const int own = fs.front.region;
@@ -277,7 +277,6 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
 
     state.openings.opening.resize(state.cracks.num_vertices(), Vec3::Zero());
     state.openings.known.resize(state.cracks.num_vertices(), 0);
-    state.grids = recorder.release();
     state.step += 1;
     state.elements_added = rep.elements_added;
     for (const FrontState& fs : state.fronts) {

@@ -150,6 +150,7 @@ graph::NodeType geometry_node() {
         bem::CrackOpeningEstimate openings = s.openings;
         openings.opening.resize(s.cracks.num_vertices(), Vec3::Zero());
         openings.known.resize(s.cracks.num_vertices(), 0);
+        openings.front_active = propagate::moving_front_nodes(s);
         c.out("openings", std::move(openings));
     });
     return t;

@@ -1,6 +1,10 @@
 #include "nodes/segment/fragment_export.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
 #include <cstdio>
+#include <exception>
 #include <stdexcept>
 
 namespace cf {
@@ -9,31 +13,51 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
                                       const FragmentExportOptions& opt) {
     if (f.fragments.empty()) throw std::invalid_argument("there are no fragments to export");
     FragmentExportResult res;
-    if (opt.meshes) {
-        for (std::size_t i = 0; i < f.fragments.size(); ++i) {
-            SurfaceMesh m = level_set_to_mesh(f.fragments[i].grid, opt.adaptivity);
-            if (opt.deformation) opt.deformation->apply(m, &res.deformation);
-            char name[64];
-            std::snprintf(name, sizeof name, "_%03zu.", i);
-            const auto path = dir / (opt.prefix + name + to_string(opt.format));
-            write_mesh_file(path, m, opt.format, opt.binary);
-            res.triangles += m.num_triangles();
-            res.files.push_back(path);
-        }
+    // Meshes (one task per fragment, each writing its own file), the VDB and the preview are
+    // independent: they run concurrently. Per-fragment figures are summed in fragment order.
+    const std::size_t n = f.fragments.size();
+    std::vector<std::filesystem::path> mesh_files(opt.meshes ? n : 0);
+    std::vector<std::size_t> triangles(mesh_files.size(), 0);
+    std::vector<DeformationStats> stats(mesh_files.size());
+    std::filesystem::path vdb_path, preview_path;
+    tbb::task_group tasks;
+    if (opt.vdb)
+        tasks.run([&] {
+            std::vector<std::pair<std::string, LevelSet>> grids;
+            for (std::size_t i = 0; i < n; ++i) grids.emplace_back(opt.prefix + std::to_string(i), f.fragments[i].grid);
+            vdb_path = dir / (opt.prefix + "s.vdb");
+            write_vdb(vdb_path, grids);
+        });
+    if (opt.preview)
+        tasks.run([&] {
+            preview_path = dir / (opt.prefix + "s_preview.png");
+            render_fragments_preview(preview_path, f, opt.preview_options);
+        });
+    std::exception_ptr mesh_error;  // the tasks are waited for before any error leaves this function
+    if (opt.meshes) try {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                SurfaceMesh m = level_set_to_mesh(f.fragments[i].grid, opt.adaptivity);
+                if (opt.deformation) opt.deformation->apply(m, &stats[i]);
+                char name[64];
+                std::snprintf(name, sizeof name, "_%03zu.", i);
+                mesh_files[i] = dir / (opt.prefix + name + to_string(opt.format));
+                write_mesh_file(mesh_files[i], m, opt.format, opt.binary);
+                triangles[i] = m.num_triangles();
+            }
+        });
+    } catch (...) {
+        mesh_error = std::current_exception();
     }
-    if (opt.vdb) {
-        std::vector<std::pair<std::string, LevelSet>> grids;
-        for (std::size_t i = 0; i < f.fragments.size(); ++i)
-            grids.emplace_back(opt.prefix + std::to_string(i), f.fragments[i].grid);
-        const auto path = dir / (opt.prefix + "s.vdb");
-        write_vdb(path, grids);
-        res.files.push_back(path);
+    tasks.wait();
+    if (mesh_error) std::rethrow_exception(mesh_error);
+    for (std::size_t i = 0; i < mesh_files.size(); ++i) {
+        res.files.push_back(mesh_files[i]);
+        res.triangles += triangles[i];
+        res.deformation.add(stats[i]);
     }
-    if (opt.preview) {
-        const auto path = dir / (opt.prefix + "s_preview.png");
-        render_fragments_preview(path, f, opt.preview_options);
-        res.files.push_back(path);
-    }
+    if (opt.vdb) res.files.push_back(vdb_path);
+    if (opt.preview) res.files.push_back(preview_path);
     return res;
 }
 
