@@ -3,8 +3,10 @@
 #include "graph/run_node.hpp"
 
 #include <tbb/flow_graph.h>
+#include <tbb/task_group.h>
 
 #include <chrono>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <sys/resource.h>
@@ -205,7 +207,21 @@ private:
         const double t0 = seconds_since_start();
         NodeResult r;
         try {
-            r = run_node(*p.type, p.params, inputs, node_options_, p.name, iteration);
+            // The node's own parallel loops run in an isolated context: cancelling the flow graph
+            // (another node failed, or Ctrl-C) must not cut a running node's parallel_for short, which
+            // would leave its arrays half computed while it goes on using them. A long node notices
+            // the cancellation through check_cancelled() and stops cleanly instead.
+            tbb::task_group_context isolated(tbb::task_group_context::isolated);
+            tbb::task_group group(isolated);
+            std::exception_ptr error;
+            group.run_and_wait([&] {
+                try {
+                    r = run_node(*p.type, p.params, inputs, node_options_, p.name, iteration);
+                } catch (...) {
+                    error = std::current_exception();
+                }
+            });
+            if (error) std::rethrow_exception(error);
         } catch (const Cancelled&) {
             cancel_->store(true);
             graph_.cancel();

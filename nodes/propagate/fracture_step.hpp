@@ -34,7 +34,10 @@ struct StepReport {
     double max_marker_travel = 0;    // [m] over the step
     double simulated_time = 0;       // n dt_s [s]
     double propagate_seconds = 0, record_seconds = 0, grow_seconds = 0;  // wall clock
-    bool should_continue() const { return elements_added > 0 || fronts_waiting > 0; }
+    // Go on while the crack grew, new fronts wait for SIFs, or markers still moved: a front whose
+    // coarse nodes may not advance (their targets lie within the surface margin) can still have
+    // markers running towards the surface, and stopping then leaves the crack a sliver short of it.
+    bool should_continue() const { return elements_added > 0 || fronts_waiting > 0 || max_marker_travel > 0; }
 };
 
 // Converts displacement-correlation records (frame e1 forward, e2 normal, e3 = e1 x e2) to the

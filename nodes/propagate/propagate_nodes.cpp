@@ -51,7 +51,7 @@ graph::NodeType fronts_node() {
                       "direction eq. (4.10)-(4.14) (compressive rule, blending, toughness steering; the first sub-step of a "
                       "new crack is planar); after each sub-step the fig. 27 tests deactivate markers that left the object "
                       "or met a crack, and the swept strips are recorded into the crack grids (ch. 6.2); finally the crack "
-                      "sheets grow by the elements of fig. 16. 'continue' is false once a step adds no element.");
+                      "sheets grow by the elements of fig. 16. 'continue' is false once a step adds no element and no marker moves.");
     t.input<propagate::FractureState>("state", "fracture state of the previous step (after initiation)");
     t.input<std::vector<bem::FrontEdgeSif>>("sifs", "per crack-front edge, from sif.displacement_correlation or an estimator");
     t.input<ScalarField>("toughness", "toughness field K_c [Pa*sqrt(m)] with its compressive factor f_c");
@@ -65,7 +65,7 @@ graph::NodeType fronts_node() {
     t.param_bool("write_substep_vdb", false,
                  "write the crack grids after every sub-step as cracks_step<s>_sub<k>.vdb (App. A item 19)");
     t.output<propagate::FractureState>("state", "state after the step");
-    t.output<bool>("continue", "true while the step added elements or new cracks wait for their first SIFs");
+    t.output<bool>("continue", "true while the step added elements, markers still moved, or new cracks wait for their first SIFs");
     t.run([](graph::NodeContext& c) {
         propagate::FractureState s = c.in<propagate::FractureState>("state");
         const ScalarField& toughness = c.in<ScalarField>("toughness");

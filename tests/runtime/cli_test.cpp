@@ -180,3 +180,20 @@ TEST(Cli, NodesJsonListsEveryRegisteredType) {
     YAML::Node j = YAML::Load(o.output);
     EXPECT_EQ(j["nodes"].size(), cf::node_registry().all().size());
 }
+
+// A per-step writer fed by LOOP.each fails while the fracture loop still runs (issue: SIGSEGV in
+// propagate_step): the run ends with exit 1 naming the writer and writes its report, every time,
+// with two threads. The failure cancels the flow graph; the node running then (propagate) must
+// finish its own parallel loops instead of using arrays a cancelled parallel_for left half done.
+TEST(Cli, FailingLoopWriterEndsCleanlyWithTwoThreads) {
+    for (int attempt = 0; attempt < 5; ++attempt) {
+        auto dir = cf::testing::temp_dir("cli-failing-writer-" + std::to_string(attempt));
+        Outcome o = run_cli("run " + src("pipelines/edge_crack_mode1.yaml") +
+                            " --fast --threads 2 --set 'step_vtk.path=/proc/nonexistent/s_{iteration}.vtp' --out " + dir.string());
+        ASSERT_EQ(o.code, 1) << "attempt " << attempt << ":\n" << o.output;
+        EXPECT_NE(o.output.find("step_vtk"), std::string::npos) << o.output;
+        ASSERT_TRUE(std::filesystem::exists(dir / "report.json")) << o.output;
+        YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+        EXPECT_EQ(report["status"].as<std::string>(), "failed");
+    }
+}
