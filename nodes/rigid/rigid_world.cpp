@@ -1,0 +1,149 @@
+#include "nodes/rigid/rigid_world.hpp"
+
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <stdexcept>
+
+static_assert(sizeof(btScalar) == sizeof(double), "crackflow links Bullet in double precision (bullet-float64)");
+
+namespace cf::rigid {
+
+namespace {
+btVector3 bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+Vec3 cf_vec(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+}  // namespace
+
+struct RigidWorld::Impl {
+    WorldSettings settings;
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher{&config};
+    btDbvtBroadphase broadphase;
+    btSequentialImpulseConstraintSolver solver;
+    btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+    std::vector<std::unique_ptr<btCollisionShape>> shapes;
+    std::vector<std::unique_ptr<btRigidBody>> bodies;  // [0, n): crackflow bodies in id order
+    std::vector<std::unique_ptr<btRigidBody>> planes;
+    std::vector<MassProperties> mass;
+    double time = 0;
+
+    explicit Impl(const WorldSettings& s) : settings(s) {
+        world.setGravity(bt(s.gravity));
+        world.getSolverInfo().m_numIterations = s.solver_iterations;
+        world.getSolverInfo().m_solverMode &= ~SOLVER_RANDMIZE_ORDER;
+        world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+    }
+    ~Impl() {
+        for (auto& b : bodies) world.removeRigidBody(b.get());
+        for (auto& b : planes) world.removeRigidBody(b.get());
+    }
+    int id_of(const btCollisionObject* o) const {
+        for (std::size_t i = 0; i < bodies.size(); ++i)
+            if (bodies[i].get() == o) return static_cast<int>(i);
+        return -1;
+    }
+};
+
+RigidWorld::RigidWorld(const WorldSettings& settings) : impl_(std::make_unique<Impl>(settings)) {
+    if (!(settings.time_step > 0)) throw std::invalid_argument("rigid world: the time step must be positive [s]");
+}
+
+RigidWorld::~RigidWorld() = default;
+
+int RigidWorld::add_body(const BodySpec& s) {
+    for (const Vec3& v : {s.velocity, s.angular_velocity})
+        if (!v.allFinite()) throw std::invalid_argument("body '" + s.name + "': velocities must be finite");
+    MassProperties mp;
+    try {
+        mp = mass_properties(s.mesh, s.density);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("body '" + s.name + "': " + e.what());
+    }
+    // Body frame: centre of mass, principal axes. Hull points in that frame.
+    const Mat3 R = mp.principal_axes;
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Vec3& v : s.mesh.vertices) hull->addPoint(bt(R.transpose() * (v - mp.centre)), false);
+    const Box3 box = bounding_box(s.mesh);
+    hull->setMargin(s.collision_margin > 0 ? s.collision_margin : 0.01 * box.extent().minCoeff());
+    hull->recalcLocalAabb();
+    const bool dynamic = s.kind == BodyKind::dynamic;
+    const double m = dynamic ? mp.mass : 0.0;
+    const btVector3 inertia = dynamic ? bt(mp.principal_moments) : btVector3(0, 0, 0);
+    btRigidBody::btRigidBodyConstructionInfo info(m, nullptr, hull.get(), inertia);
+    const Eigen::Quaterniond q(R);
+    info.m_startWorldTransform = btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(mp.centre));
+    info.m_friction = s.friction;
+    info.m_restitution = s.restitution;
+    auto body = std::make_unique<btRigidBody>(info);
+    if (s.kind == BodyKind::kinematic) body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+    body->setActivationState(DISABLE_DEACTIVATION);
+    body->setLinearVelocity(bt(s.velocity));
+    body->setAngularVelocity(bt(s.angular_velocity));
+    impl_->world.addRigidBody(body.get());
+    impl_->shapes.push_back(std::move(hull));
+    impl_->bodies.push_back(std::move(body));
+    impl_->mass.push_back(mp);
+    return static_cast<int>(impl_->bodies.size() - 1);
+}
+
+void RigidWorld::add_ground_plane(const Vec3& n, double offset, double friction, double restitution) {
+    if (!(n.norm() > 0)) throw std::invalid_argument("ground plane: the normal must not be zero");
+    auto shape = std::make_unique<btStaticPlaneShape>(bt(n.normalized()), offset);
+    btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, shape.get());
+    info.m_friction = friction;
+    info.m_restitution = restitution;
+    auto body = std::make_unique<btRigidBody>(info);
+    impl_->world.addRigidBody(body.get());
+    impl_->shapes.push_back(std::move(shape));
+    impl_->planes.push_back(std::move(body));
+}
+
+void RigidWorld::step() {
+    impl_->world.stepSimulation(impl_->settings.time_step, 0, impl_->settings.time_step);
+    impl_->time += impl_->settings.time_step;
+}
+
+double RigidWorld::time() const { return impl_->time; }
+std::size_t RigidWorld::num_bodies() const { return impl_->bodies.size(); }
+const MassProperties& RigidWorld::mass_properties_of(int id) const { return impl_->mass.at(static_cast<std::size_t>(id)); }
+
+BodyState RigidWorld::state(int id) const {
+    const btRigidBody& b = *impl_->bodies.at(static_cast<std::size_t>(id));
+    const btTransform& t = b.getWorldTransform();
+    const btQuaternion q = t.getRotation();
+    BodyState s;
+    s.position = cf_vec(t.getOrigin());
+    s.rotation = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
+    s.velocity = cf_vec(b.getLinearVelocity());
+    s.angular_velocity = cf_vec(b.getAngularVelocity());
+    return s;
+}
+
+std::vector<Contact> RigidWorld::contacts() const {
+    std::vector<Contact> out;
+    btCollisionDispatcher& d = impl_->dispatcher;
+    for (int i = 0; i < d.getNumManifolds(); ++i) {
+        const btPersistentManifold* m = d.getManifoldByIndexInternal(i);
+        for (int k = 0; k < m->getNumContacts(); ++k) {
+            const btManifoldPoint& p = m->getContactPoint(k);
+            if (!(p.getAppliedImpulse() > 0)) continue;
+            Contact c;
+            c.body_a = impl_->id_of(m->getBody0());
+            c.body_b = impl_->id_of(m->getBody1());
+            c.point_a = cf_vec(p.getPositionWorldOnA());
+            c.point_b = cf_vec(p.getPositionWorldOnB());
+            c.normal_on_b = cf_vec(p.m_normalWorldOnB);
+            c.impulse = p.getAppliedImpulse();
+            out.push_back(c);
+        }
+    }
+    return out;
+}
+
+}  // namespace cf::rigid
