@@ -1,6 +1,7 @@
 // Mass properties, contact duration and balanced tractions against closed forms.
 #include "nodes/rigid/balanced_tractions.hpp"
 #include "nodes/rigid/contact_duration.hpp"
+#include "nodes/rigid/fragment_motion.hpp"
 #include "nodes/rigid/mass_properties.hpp"
 #include "nodes/shape/box.hpp"
 #include "nodes/shape/icosphere.hpp"
@@ -109,4 +110,37 @@ TEST(BalancedTractions, BalancedInputIsUnchanged) {
     for (std::size_t t = 0; t < q.size(); ++t) EXPECT_LT((out.traction[t] - q[t]).norm(), 1e-9);
     EXPECT_LT(out.removed_force.norm(), 1e-8);
     EXPECT_THROW(rigid::balance_tractions(box, std::vector<Vec3>(3)), std::invalid_argument);
+}
+
+// A spinning, translating box cut into three slabs: the slabs' motions from fragment_motion carry
+// the parent's linear and angular momentum exactly (the slabs partition the box).
+TEST(FragmentMotion, FragmentsCarryTheParentsMomentum) {
+    const Mat3 R = Eigen::AngleAxisd(0.9, Vec3(0.3, -1, 0.5).normalized()).toRotationMatrix();
+    const Vec3 shift(4, -1, 2);
+    auto place = [&](SurfaceMesh m) {
+        for (Vec3& v : m.vertices) v = R * v + shift;
+        return m;
+    };
+    BoxSpec whole;
+    whole.size = Vec3(0.6, 0.2, 0.1);
+    const auto parent = rigid::mass_properties(place(make_box(whole)), 2000);
+    rigid::RigidMotion pm;
+    pm.centre = parent.centre;
+    pm.velocity = Vec3(1, 2, -3);
+    pm.angular_velocity = Vec3(4, -2, 7);
+    std::vector<rigid::MassProperties> parts;
+    std::vector<rigid::RigidMotion> motion;
+    for (double x0 : {-0.3, -0.1, 0.2}) {  // slabs [-0.3, -0.1], [-0.1, 0.2], [0.2, 0.3]
+        const double x1 = x0 == -0.3 ? -0.1 : (x0 == -0.1 ? 0.2 : 0.3);
+        BoxSpec s;
+        s.size = Vec3(x1 - x0, 0.2, 0.1);
+        s.centre = Vec3(0.5 * (x0 + x1), 0, 0);
+        parts.push_back(rigid::mass_properties(place(make_box(s)), 2000));
+        motion.push_back(rigid::fragment_motion(pm, parts.back().centre));
+    }
+    Vec3 L, H, L0, H0;
+    rigid::total_momentum(parts, motion, Vec3::Zero(), L, H);
+    rigid::total_momentum({parent}, {pm}, Vec3::Zero(), L0, H0);
+    EXPECT_LT((L - L0).norm(), 1e-12 * L0.norm());
+    EXPECT_LT((H - H0).norm(), 1e-12 * H0.norm());
 }
