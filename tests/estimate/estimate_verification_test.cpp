@@ -1,28 +1,12 @@
 // The estimator verification cases (docs/verification.md 18-22), as `crackflow verify` runs them.
-#include "nodes/domain/verification_case.hpp"
+#include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
 
-#include <iostream>
+using cf::testing::expect_verification_case_passes;
 
-namespace {
-
-void run_case(const std::string& name) {
-    for (const auto& c : cf::verification_cases())
-        if (c.name == name) {
-            const cf::VerificationResult r = c.run();
-            EXPECT_TRUE(r.passed) << r.details;
-            EXPECT_LE(r.error, r.tolerance) << r.details;
-            std::cout << r.details << "\n";
-            return;
-        }
-    FAIL() << "verification case " << name << " is not registered";
-}
-
-}  // namespace
-
-TEST(EstimateVerification, EstimatorEdgeCrackHalfspace) { run_case("estimator_edge_crack_halfspace"); }
-TEST(EstimateVerification, EstimatorVsFullBem) { run_case("estimator_vs_full_bem"); }
-TEST(EstimateVerification, EstimatorNoOscillation) { run_case("estimator_no_oscillation"); }
-TEST(EstimateVerification, HybridSwitchContinuity) { run_case("hybrid_switch_continuity"); }
-TEST(EstimateVerification, CodRhsUpdate) { run_case("cod_rhs_update"); }
+TEST(EstimateVerification, EstimatorEdgeCrackHalfspace) { expect_verification_case_passes("estimator_edge_crack_halfspace"); }
+TEST(EstimateVerification, EstimatorVsFullBem) { expect_verification_case_passes("estimator_vs_full_bem"); }
+TEST(EstimateVerification, EstimatorNoOscillation) { expect_verification_case_passes("estimator_no_oscillation"); }
+TEST(EstimateVerification, HybridSwitchContinuity) { expect_verification_case_passes("hybrid_switch_continuity"); }
+TEST(EstimateVerification, CodRhsUpdate) { expect_verification_case_passes("cod_rhs_update"); }

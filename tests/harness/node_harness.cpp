@@ -1,6 +1,10 @@
 #include "tests/harness/node_harness.hpp"
 
+#include "nodes/domain/verification_case.hpp"
+
 #include <gtest/gtest.h>
+
+#include <iostream>
 
 namespace cf::testing {
 
@@ -11,6 +15,18 @@ graph::NodeResult run_node(const std::string& type, const Params& params, const 
     graph::RunOptions options;
     options.output_dir = output_dir.empty() ? temp_dir(type) : output_dir;
     return graph::run_node(*t, params, inputs, options, type);
+}
+
+void expect_verification_case_passes(const std::string& name) {
+    for (const auto& c : verification_cases())
+        if (c.name == name) {
+            const VerificationResult r = c.run();
+            EXPECT_TRUE(r.passed) << r.details;
+            EXPECT_LE(r.error, r.tolerance) << r.details;
+            std::cout << r.details << "\n";
+            return;
+        }
+    ADD_FAILURE() << "verification case " << name << " is not registered";
 }
 
 std::filesystem::path temp_dir(const std::string& tag) {

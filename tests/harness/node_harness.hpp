@@ -20,6 +20,10 @@ using Inputs = std::map<std::string, graph::Value>;
 graph::NodeResult run_node(const std::string& type, const Params& params = {}, const Inputs& inputs = {},
                            const std::filesystem::path& output_dir = {});
 
+// Runs the registered verification case `name` (as `crackflow verify --case name` does) and
+// expects it to pass within its tolerance; prints its details. Fails the test if no such case.
+void expect_verification_case_passes(const std::string& name);
+
 // A fresh, empty temporary directory unique to the calling test.
 std::filesystem::path temp_dir(const std::string& tag);
 

@@ -1,24 +1,10 @@
 // The rigid-body verification cases (docs/verification.md 23-25), as `crackflow verify` runs them.
-#include "nodes/domain/verification_case.hpp"
+#include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
 
-#include <iostream>
+using cf::testing::expect_verification_case_passes;
 
-namespace {
-void run_case(const std::string& name) {
-    for (const auto& c : cf::verification_cases())
-        if (c.name == name) {
-            const cf::VerificationResult r = c.run();
-            EXPECT_TRUE(r.passed) << r.details;
-            EXPECT_LE(r.error, r.tolerance) << r.details;
-            std::cout << r.details << "\n";
-            return;
-        }
-    FAIL() << "verification case " << name << " is not registered";
-}
-}  // namespace
-
-TEST(RigidVerification, BallisticFreeFall) { run_case("ballistic_free_fall"); }
-TEST(RigidVerification, BalancedTractions) { run_case("balanced_tractions"); }
-TEST(RigidVerification, HertzDuration) { run_case("hertz_duration"); }
+TEST(RigidVerification, BallisticFreeFall) { expect_verification_case_passes("ballistic_free_fall"); }
+TEST(RigidVerification, BalancedTractions) { expect_verification_case_passes("balanced_tractions"); }
+TEST(RigidVerification, HertzDuration) { expect_verification_case_passes("hertz_duration"); }
