@@ -26,4 +26,10 @@ struct VtpFields {
 // than 1 or 3, an empty or duplicate name, or a cell array named "region".
 void write_vtp(std::ostream& os, const SurfaceMesh& m, const VtpFields& fields = {});
 
+// Polylines (VTK Lines cells): `lines` are lists of point indices; `point_data` one tuple per point.
+// Throws std::invalid_argument for an index out of range, a line of fewer than 2 points, a
+// non-finite point or an array as for write_vtp.
+void write_vtp_lines(std::ostream& os, const std::vector<Vec3>& points, const std::vector<std::vector<int>>& lines,
+                     const std::vector<VtpArray>& point_data = {});
+
 }  // namespace cf

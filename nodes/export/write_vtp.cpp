@@ -91,4 +91,46 @@ void write_vtp(std::ostream& os, const SurfaceMesh& m, const VtpFields& fields) 
     os << "\n        </DataArray>\n      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
 }
 
+void write_vtp_lines(std::ostream& os, const std::vector<Vec3>& points, const std::vector<std::vector<int>>& lines,
+                     const std::vector<VtpArray>& point_data) {
+    for (const Vec3& p : points)
+        if (!p.allFinite()) throw std::invalid_argument("cannot write .vtp: a polyline point is not finite");
+    std::size_t refs = 0;
+    for (const auto& l : lines) {
+        if (l.size() < 2) throw std::invalid_argument("cannot write .vtp: a polyline has fewer than 2 points");
+        for (int i : l)
+            if (i < 0 || std::size_t(i) >= points.size())
+                throw std::invalid_argument("cannot write .vtp: polyline point " + std::to_string(i) + " does not exist");
+        refs += l.size();
+    }
+    std::set<std::string> names;
+    check_arrays(point_data, points.size(), "point", names);
+    os << "<?xml version=\"1.0\"?>\n"
+       << "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+       << "  <PolyData>\n"
+       << "    <Piece NumberOfPoints=\"" << points.size() << "\" NumberOfVerts=\"0\" NumberOfLines=\"" << lines.size()
+       << "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n      <PointData>\n";
+    for (const VtpArray& a : point_data) write_array(os, a);
+    os << "      </PointData>\n      <Points>\n"
+       << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const Vec3& p : points) {
+        write_real(os, p.x());
+        os << ' ';
+        write_real(os, p.y());
+        os << ' ';
+        write_real(os, p.z());
+        os << '\n';
+    }
+    os << "        </DataArray>\n      </Points>\n      <Lines>\n"
+       << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const auto& l : lines) {
+        for (std::size_t k = 0; k < l.size(); ++k) os << l[k] << (k + 1 < l.size() ? ' ' : '\n');
+    }
+    os << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    std::size_t off = 0;
+    for (const auto& l : lines) os << (off += l.size()) << '\n';
+    os << "        </DataArray>\n      </Lines>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    (void)refs;
+}
+
 }  // namespace cf

@@ -6,6 +6,8 @@
 #include "nodes/domain/material.hpp"
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/propagate/fracture_step.hpp"
+#include "nodes/propagate/sif_export.hpp"
+#include "nodes/bem/solver.hpp"
 #include "nodes/registration.hpp"
 
 #include <cmath>
@@ -156,12 +158,53 @@ graph::NodeType geometry_node() {
     return t;
 }
 
+graph::NodeType sif_export_node() {
+    graph::NodeType t("export.sifs",
+                      "Writes the stress intensities along every crack front: one row per front edge, in front order, with "
+                      "the edge midpoint [m], the tip frame (e1 forward, e2 crack normal, e3 = e1 x e2), K_I, K_II, K_III, "
+                      "the effective K of eq. (4.7) and K_c there [Pa*sqrt(m)], as CSV and as VTK polylines (one per front, "
+                      "for ParaView). Inside a fracture loop it writes every step ('{iteration}' in the path); files are "
+                      "written atomically.");
+    t.input<std::vector<bem::FrontEdgeSif>>("sifs", "from sif.fronts, sif.estimator or sif.displacement_correlation");
+    t.input<bem::BemSolution>("solution", "the solution the SIFs were read from (its crack sheets place the edges)");
+    t.optional_input<ScalarField>("toughness", "toughness field for the K_c column (-1 without)");
+    t.param_string("path", "", "CSV file; relative to the run's output directory; '{iteration}' becomes the loop iteration")
+        .required();
+    t.param_string("vtp_path", "", "VTK polylines (.vtp); empty: '<path stem>.vtp' beside 'path'; 'none': no VTK file");
+    t.run([](graph::NodeContext& c) {
+        const bem::BemSolution& sol = c.in<bem::BemSolution>("solution");
+        const SurfaceMesh* cracks = bem::current_crack_mesh(sol);
+        const ScalarField* toughness = c.has("toughness") ? &c.in<ScalarField>("toughness") : nullptr;
+        if (toughness && toughness->quantity != FieldQuantity::toughness)
+            c.fail("input 'toughness' is a " + std::string(quantity_name(toughness->quantity)) +
+                   " field; connect a field with quantity: toughness");
+        const std::filesystem::path csv = c.output_path(c.string("path"));
+        std::filesystem::path vtp = c.string("vtp_path");
+        if (vtp.empty()) vtp = csv.parent_path() / (csv.stem().string() + ".vtp");
+        else if (vtp != "none") vtp = c.output_path(c.string("vtp_path"));
+        std::vector<propagate::FrontSifRow> rows;
+        try {
+            if (cracks) rows = propagate::front_sif_rows(*cracks, c.in<std::vector<bem::FrontEdgeSif>>("sifs"),
+                                                         sol.surface->elastic.nu, toughness);
+            propagate::write_front_sifs_csv(csv, rows);
+            if (vtp != "none") propagate::write_front_sifs_vtp(vtp, rows);
+        } catch (const std::invalid_argument& e) {
+            c.fail(std::string("inputs 'sifs' / 'solution': ") + e.what());
+        } catch (const std::exception& e) {
+            c.fail("parameter 'path' (" + csv.string() + ") / 'vtp_path': " + e.what());
+        }
+        c.count("front_edges", static_cast<double>(rows.size()));
+    });
+    return t;
+}
+
 }  // namespace
 
 void register_propagate_nodes(graph::NodeRegistry& r) {
     r.add(start_node());
     r.add(fronts_node());
     r.add(geometry_node());
+    r.add(sif_export_node());
 }
 
 }  // namespace cf
