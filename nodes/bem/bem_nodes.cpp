@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace cf {
@@ -121,6 +122,23 @@ graph::NodeType solve_node() {
             c.fail(std::string("parameter boundary_conditions / inputs: ") + e.what());
         } catch (const std::runtime_error& e) {
             c.fail(e.what());
+        }
+        {
+            // A solve that produced NaN or infinity is a failure, not a result (e.g. E = 1e300 overflows
+            // the single layer, an inverted mesh makes a factor indefinite without tripping it).
+            bool finite = true;
+            for (const Vec3& u : sol->displacement) finite = finite && u.allFinite();
+            for (const Vec3& t : sol->traction) finite = finite && t.allFinite();
+            for (const Vec3& w : sol->crack_opening) finite = finite && w.allFinite();
+            if (!finite) {
+                std::ostringstream os;
+                os.precision(6);
+                os << "the solution has non-finite values (NaN or infinity): the material is out of a physical range "
+                      "(E = " << 2 * ops.surface->elastic.mu * (1 + ops.surface->elastic.nu) << " Pa, nu = " << ops.surface->elastic.nu
+                   << "; E of real solids lies between about 1e5 and 1e12 Pa) or the BEM mesh is degenerate; check "
+                      "material.brittle (or assemble.sgbem's E, nu) and the mesh";
+                c.fail(os.str());
+            }
         }
         c.count("surface_factor_reused", sol->reused_surface_factor ? 1 : 0);
         c.count("schur_extended", sol->extended_schur ? 1 : 0);

@@ -103,11 +103,16 @@ graph::NodeType material_node() {
     graph::NodeType t("material.brittle",
                       "An isotropic linear-elastic brittle material (App. A items 3-8). Every parameter is required, so a "
                       "pipeline states its material in one place; assemble.sgbem, initiate.* and propagate.fronts read it.");
-    t.param_real("E", 0, "Pa", "Young's modulus").required().above(0);
+    // Physical ranges (a value inside the range must give a meaningful run: E = 1e300 overflowed the
+    // BEM quadrature into K = 1e297): soft gels about 1e3 Pa to diamond 1.2e12 Pa; aerogels about
+    // 1 kg/m^3 to osmium 2.3e4 kg/m^3; strengths up to 1e11 Pa; toughness up to 1e9 Pa sqrt(m).
+    t.param_real("E", 0, "Pa", "Young's modulus, between 1e3 (soft gel) and 1e13 (beyond diamond)").required().range(1e3, 1e13);
     t.param_real("nu", 0, "", "Poisson's ratio, in (0, 0.5)").required().above(0).below(0.5);
-    t.param_real("rho", 0, "kg/m^3", "density (sets the Rayleigh speed, hence simulated time)").required().above(0);
-    t.param_real("tensile_strength", 0, "Pa", "tensile strength (crack initiation, ch. 4.4)").required().above(0);
-    t.param_real("toughness", 0, "Pa*sqrt(m)", "fracture toughness K_c (ch. 4.5)").required().above(0);
+    t.param_real("rho", 0, "kg/m^3", "density (sets the Rayleigh speed, hence simulated time), between 1 and 1e5")
+        .required()
+        .range(1, 1e5);
+    t.param_real("tensile_strength", 0, "Pa", "tensile strength (crack initiation, ch. 4.4), up to 1e11").required().above(0).below(1e11);
+    t.param_real("toughness", 0, "Pa*sqrt(m)", "fracture toughness K_c (ch. 4.5), up to 1e9").required().above(0).below(1e9);
     t.param_real("compressive_factor", 0, "", "f_c: compressive strength and toughness = f_c * tensile").required().at_least(1);
     t.output<Material>("material", "the material");
     t.run([](graph::NodeContext& c) {

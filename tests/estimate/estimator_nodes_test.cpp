@@ -106,3 +106,15 @@ TEST(EstimatorNodes, FullBemOverBudgetSuggestsTheHybridSwitch) {
         run_node("assemble.sgbem", {{"memory_budget", 1e-3}}, {{"mesh", value(cube)}, {"cracks", value(big)}});
     }, {"GB", "hybrid"});
 }
+
+// A Young's modulus inside the parameter's range but far outside any solid's overflows the
+// regularised Neumann matrix (D^T D ~ E^2): the solve must fail naming the material, not report NaN
+// displacements as a result.
+TEST(EstimatorNodes, NonFiniteSolutionIsAnError) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(2, 1.0);
+    auto a = run_node("assemble.sgbem", {{"E", 1e300}, {"single_layer", false}}, {{"mesh", value(cube)}});
+    expect_error([&] {
+        run_node("solve.sgbem", {{"boundary_conditions", std::string("z_max: traction 0 0 1e6; z_min: traction 0 0 -1e6; *: traction 0 0 0")}},
+                 {{"operators", a.outputs.at("operators")}});
+    }, {"non-finite", "E = 1e+300 Pa", "material"});
+}

@@ -111,3 +111,15 @@ TEST(FractureInputs, StrengthFieldOnTheToughnessPortIsRejected) {
     EXPECT_NE(e.find("toughness"), std::string::npos) << e;
     EXPECT_NE(e.find("strength"), std::string::npos) << e;
 }
+
+// Inside a merely positive range, E = 1e300 overflowed the BEM into K = 1e297 and a run that
+// reported ok; the material's ranges are physical ones, and the message gives the unit.
+TEST(FractureInputs, UnphysicalMaterialValuesAreRejectedWithTheirUnit) {
+    const std::string e = load_errors(std::string(material_header) +
+                                      "    params: {E: 1e300, nu: 0.3, rho: 1200, tensile_strength: 7.6e7, toughness: 1e6, compressive_factor: 2}\n");
+    EXPECT_NE(e.find("'E'"), std::string::npos) << e;
+    EXPECT_NE(e.find("Pa"), std::string::npos) << e;
+    const std::string r = load_errors(std::string(material_header) +
+                                      "    params: {E: 3e9, nu: 0.3, rho: 1e9, tensile_strength: 7.6e7, toughness: 1e6, compressive_factor: 2}\n");
+    EXPECT_NE(r.find("'rho'"), std::string::npos) << r;
+}
