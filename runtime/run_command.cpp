@@ -23,8 +23,14 @@ namespace cf::runtime {
 namespace {
 
 std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};  // the signal that cancelled the run (SIGINT or SIGTERM)
 
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
+// SIGINT (Ctrl-C) and SIGTERM (a scheduler or `kill`) both cancel the run cleanly: running nodes
+// stop at their next check, temporaries are removed by the atomic writers, the report is written.
+extern "C" void on_sigint(int sig) {
+    g_signal.store(sig);
+    g_interrupted.store(true);
+}
 
 bool load(const std::string& path, const std::vector<std::string>& overrides, bool fast, graph::Plan& plan) {
     std::vector<graph::Diagnostic> diags;
@@ -76,7 +82,9 @@ int run_command(const RunRequest& req) {
 
     ProgressDisplay progress(stderr, isatty(fileno(stderr)) != 0);
     g_interrupted.store(false);
+    g_signal.store(0);
     auto previous = std::signal(SIGINT, on_sigint);
+    auto previous_term = std::signal(SIGTERM, on_sigint);
     graph::RunOptions options;
     options.output_dir = out;
     options.fast = req.fast;
@@ -85,6 +93,7 @@ int run_command(const RunRequest& req) {
     options.keep_outputs = false;  // the report needs the counts only; values are freed once consumed
     graph::ExecutionResult result = graph::execute(plan, options, &progress);
     std::signal(SIGINT, previous);
+    std::signal(SIGTERM, previous_term);
     progress.finish();
 
     ReportContext ctx{req.pipeline, req.overrides, req.fast, threads};
@@ -98,7 +107,7 @@ int run_command(const RunRequest& req) {
     if (result.cancelled) {
         std::fprintf(stderr, "crackflow run: cancelled after %.2f s; partial report in %s\n", result.wall_seconds,
                      report.string().c_str());
-        return 130;
+        return g_signal.load() == SIGTERM ? 143 : 130;  // 128 + the signal, as shells report it
     }
     if (!result.ok) {
         std::fprintf(stderr, "crackflow run: error: %s\n  (report: %s)\n", result.error.c_str(), report.string().c_str());

@@ -166,6 +166,42 @@ TEST(Cli, CtrlCCancelsCleanly) {
     EXPECT_EQ(report["status"].as<std::string>(), "cancelled");
 }
 
+// SIGTERM (what a scheduler or `kill` sends) is handled like Ctrl-C: exit 143, report written, no
+// temporary file left behind.
+TEST(Cli, SigtermCancelsCleanly) {
+    auto dir = cf::testing::temp_dir("cli-sigterm");
+    pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        std::freopen("/dev/null", "w", stderr);
+        execl(CRACKFLOW_EXE, CRACKFLOW_EXE, "run", src("pipelines/loop_demo.yaml").c_str(), "--set", "settle.seconds=30",
+              "--out", dir.c_str(), static_cast<char*>(nullptr));
+        _exit(99);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 143);
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+    EXPECT_EQ(report["status"].as<std::string>(), "cancelled");
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().rfind('.', 0), std::string::npos) << "left behind: " << e.path();
+}
+
+// A parameter holding a byte that is not UTF-8 still gives a report.json that is valid UTF-8.
+TEST(Cli, ReportIsValidUtf8WithALatin1Parameter) {
+    auto dir = cf::testing::temp_dir("cli-latin1");
+    Outcome o = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --set 'write_final.path=final_\xe9.txt' --out " +
+                        dir.string());
+    ASSERT_EQ(o.code, 0) << o.output;
+    std::ifstream in(dir / "report.json", std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.find("\xe9"), std::string::npos);
+    EXPECT_NE(text.find("final_\xEF\xBF\xBD.txt"), std::string::npos);
+}
+
 TEST(Cli, GraphPrintsDotWithLoopCluster) {
     Outcome o = run_cli("graph " + src("pipelines/loop_demo.yaml"));
     EXPECT_EQ(o.code, 0) << o.output;
