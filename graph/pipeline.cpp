@@ -659,7 +659,17 @@ Plan load_pipeline_text(const std::string& text, const std::string& file_name, c
                         const LoadOptions& options, std::vector<Diagnostic>& diags) {
     YAML::Node root;
     try {
-        root = YAML::Load(text);
+        // A file with several YAML documents ('---') is one pipeline only if it has one document;
+        // silently running the first would hide the rest.
+        const std::vector<YAML::Node> docs = YAML::LoadAll(text);
+        if (docs.size() > 1) {
+            const YAML::Mark m = docs[1].Mark();
+            diags.push_back({{file_name, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0},
+                             "the file holds " + std::to_string(docs.size()) + " YAML documents; a pipeline file holds one",
+                             "remove the '---' separators, or split the documents into one file each"});
+            return {};
+        }
+        root = docs.empty() ? YAML::Node() : docs.front();
     } catch (const YAML::ParserException& e) {
         diags.push_back({{file_name, e.mark.line + 1, e.mark.column + 1}, "YAML syntax error: " + e.msg,
                          "check indentation and that every 'key: value' has a space after the colon"});

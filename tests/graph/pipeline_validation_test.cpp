@@ -75,6 +75,15 @@ TEST(PipelineValidation, YamlSyntaxErrorHasLineAndColumn) {
     EXPECT_GT(diags[0].loc.line, 1);
 }
 
+// A second YAML document used to be ignored silently; now the file is rejected at the second one.
+TEST(PipelineValidation, SeveralYamlDocumentsAreAnError) {
+    std::vector<Diagnostic> diags;
+    load_text("nodes:\n  a: {type: core.real, params: {value: 1}}\n---\nnodes:\n  b: {type: core.real, params: {value: 2}}\n", diags);
+    ASSERT_EQ(diags.size(), 1u);
+    EXPECT_NE(diags[0].message.find("2 YAML documents"), std::string::npos) << format(diags[0]);
+    EXPECT_EQ(diags[0].loc.line, 4) << format(diags[0]);
+}
+
 TEST(PipelineValidation, IllegalCycleIsNamed) {
     std::vector<Diagnostic> diags;
     load_text(R"(nodes:
