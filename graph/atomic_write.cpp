@@ -21,6 +21,16 @@ void write_atomically_via_path(const std::filesystem::path& path,
         std::filesystem::create_directories(path.parent_path(), ec);
         if (ec) throw std::runtime_error("cannot create directory " + path.parent_path().string() + ": " + ec.message());
     }
+    // Only a regular file (or nothing) may be replaced: the rename would swap a symlink for a file,
+    // feed a FIFO or device nothing, and fails on a directory with a confusing message.
+    const std::filesystem::file_status st = std::filesystem::symlink_status(path, ec);
+    if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) {
+        const char* what = std::filesystem::is_directory(st) ? "a directory"
+                           : std::filesystem::is_symlink(st) ? "a symbolic link"
+                                                             : "not a regular file (a FIFO, socket or device)";
+        throw std::runtime_error("cannot write " + path.string() + ": it exists and is " + what +
+                                 "; choose another output name or remove it");
+    }
     auto tmp = temp_name(path);
     try {
         write(tmp);
@@ -30,8 +40,9 @@ void write_atomically_via_path(const std::filesystem::path& path,
     }
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
+        const std::string why = ec.message();  // before remove() overwrites ec
         std::filesystem::remove(tmp, ec);
-        throw std::runtime_error("cannot write " + path.string() + ": rename failed: " + ec.message());
+        throw std::runtime_error("cannot write " + path.string() + ": rename failed: " + why);
     }
 }
 

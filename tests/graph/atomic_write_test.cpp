@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 
 using cf::graph::write_atomically;
 
@@ -47,4 +48,33 @@ TEST(AtomicWrite, UnwritableDirectoryGivesAClearError) {
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("/proc/crackflow-cannot-write"), std::string::npos) << e.what();
     }
+}
+
+// Only regular files are replaced: a directory, a symbolic link or a FIFO at the target is an
+// error naming the path and what is there, and nothing is written or left behind.
+TEST(AtomicWrite, NonRegularTargetsAreRefused) {
+    auto dir = std::filesystem::temp_directory_path() / "crackflow-tests" / "atomic-targets";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "a_directory");
+    std::ofstream(dir / "real.txt") << "keep\n";
+    std::filesystem::create_symlink(dir / "real.txt", dir / "link.txt");
+    ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+    const std::pair<const char*, const char*> cases[] = {
+        {"a_directory", "a directory"}, {"link.txt", "a symbolic link"}, {"fifo", "not a regular file"}};
+    for (const auto& [name, what] : cases) {
+        try {
+            write_atomically(dir / name, [](std::ostream& o) { o << "new\n"; });
+            FAIL() << name << " was replaced";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    }
+    std::ifstream f(dir / "real.txt");
+    std::string line;
+    std::getline(f, line);
+    EXPECT_EQ(line, "keep");  // the link's target is untouched
+    int files = 0;
+    for (auto& e : std::filesystem::directory_iterator(dir)) (void)e, ++files;
+    EXPECT_EQ(files, 4);  // no temporary left
 }
