@@ -50,8 +50,14 @@ bool load(const std::string& path, const std::vector<std::string>& overrides, bo
 int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides) {
     int code = 0;
     for (const auto& p : pipelines) {
-        graph::Plan plan;
-        if (load(p, overrides, false, plan)) std::printf("%s: ok (%zu nodes)\n", p.c_str(), plan.nodes.size());
+        graph::Plan plan, fast_plan;
+        bool ok = load(p, overrides, false, plan);
+        // The pipeline as `run --fast` (and the test suite) runs it: its fast: overrides are checked too.
+        if (ok && !load(p, overrides, true, fast_plan)) {
+            std::fprintf(stderr, "%s: the errors above come from its fast: section (as run --fast applies it)\n", p.c_str());
+            ok = false;
+        }
+        if (ok) std::printf("%s: ok (%zu nodes)\n", p.c_str(), plan.nodes.size());
         else code = 2;
     }
     return code;

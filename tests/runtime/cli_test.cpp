@@ -202,6 +202,17 @@ TEST(Cli, ReportIsValidUtf8WithALatin1Parameter) {
     EXPECT_NE(text.find("final_\xEF\xBF\xBD.txt"), std::string::npos);
 }
 
+// `validate` checks the pipeline as `run --fast` runs it too: a bad fast: override is an error.
+TEST(Cli, ValidateChecksTheFastSection) {
+    auto dir = cf::testing::temp_dir("cli-validate-fast");
+    const auto file = dir / "fast_typo.yaml";
+    std::ofstream(file) << "nodes:\n  a: {type: core.real, params: {value: 1}}\nfast:\n  a.valeu: 2\n";
+    Outcome o = run_cli("validate " + file.string());
+    EXPECT_EQ(o.code, 2) << o.output;
+    EXPECT_NE(o.output.find("valeu"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("fast: section"), std::string::npos) << o.output;
+}
+
 TEST(Cli, GraphPrintsDotWithLoopCluster) {
     Outcome o = run_cli("graph " + src("pipelines/loop_demo.yaml"));
     EXPECT_EQ(o.code, 0) << o.output;
