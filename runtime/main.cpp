@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("pipeline", run.pipeline, "pipeline YAML file")->required();
     run_cmd->add_option("--out", run.out_dir, "output directory (default: out/<pipeline name>)");
     run_cmd->add_option("--set", run.overrides, "override a parameter: NODE.PARAM=VALUE (repeatable)");
-    run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores)")->check(CLI::Range(1, INT_MAX));
+    run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores; at most 4 per core)")->check(CLI::Range(1, INT_MAX));
     run_cmd->add_flag("--fast", run.fast, "apply the pipeline's 'fast:' overrides (reduced resolution, for tests)");
 
     std::vector<std::string> validate_files, validate_overrides;

@@ -83,7 +83,15 @@ int run_command(const RunRequest& req) {
                      ec.message().c_str());
         return 2;
     }
-    const int threads = req.threads > 0 ? req.threads : tbb::info::default_concurrency();
+    // More workers than a few per core only cost memory (TBB sizes its arena by the limit: --threads 1e9
+    // grew to 7.8 GB before failing).
+    const int cores = tbb::info::default_concurrency();
+    if (req.threads > 4 * cores) {
+        std::fprintf(stderr, "crackflow run: error: --threads %d is more than 4 per core of this machine (%d cores); use at most %d\n",
+                     req.threads, cores, 4 * cores);
+        return 2;
+    }
+    const int threads = req.threads > 0 ? req.threads : cores;
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
     ProgressDisplay progress(stderr, isatty(fileno(stderr)) != 0);

@@ -213,6 +213,15 @@ TEST(Cli, ValidateChecksTheFastSection) {
     EXPECT_NE(o.output.find("fast: section"), std::string::npos) << o.output;
 }
 
+// An absurd thread count is refused at once instead of growing TBB's arena to gigabytes.
+TEST(Cli, AbsurdThreadCountIsAnInputError) {
+    Outcome o = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --threads 1000000000 --out " +
+                        cf::testing::temp_dir("cli-threads").string());
+    EXPECT_EQ(o.code, 2) << o.output;
+    EXPECT_NE(o.output.find("--threads"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("cores"), std::string::npos) << o.output;
+}
+
 TEST(Cli, GraphPrintsDotWithLoopCluster) {
     Outcome o = run_cli("graph " + src("pipelines/loop_demo.yaml"));
     EXPECT_EQ(o.code, 0) << o.output;
