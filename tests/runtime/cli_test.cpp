@@ -253,3 +253,17 @@ TEST(Cli, FailingLoopWriterEndsCleanlyWithTwoThreads) {
         EXPECT_EQ(report["status"].as<std::string>(), "failed");
     }
 }
+
+// Output paths: '..' may not leave --out, and report.json is the run's own.
+TEST(Cli, OutputPathsStayInsideTheOutputDirectory) {
+    auto dir = cf::testing::temp_dir("cli-escape");
+    Outcome o = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --set 'write_final.path=../../escape.txt' --out " +
+                        (dir / "out").string());
+    EXPECT_EQ(o.code, 1) << o.output;
+    EXPECT_NE(o.output.find("leaves the output directory"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.parent_path() / "escape.txt"));
+    Outcome r = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --set 'write_final.path=report.json' --out " +
+                        (dir / "out2").string());
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("report.json"), std::string::npos) << r.output;
+}
