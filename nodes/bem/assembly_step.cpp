@@ -79,39 +79,20 @@ BemOperators assemble_step(const AssemblyRequest& rq, AssemblyReport& rep) {
     }
     const bool switch_now = out.method == CrackMethod::estimator ||
                             (out.method == CrackMethod::hybrid && static_cast<long long>(rep.elements) > out.switch_elements);
-    if (switch_now && reuse) {
-        // The cracks of the previous step stay in the system as they are; the growth since is estimated.
-        out.cracks = reuse->cracks;
+    if (switch_now) {
+        // With previous operators, the cracks of the last full solve stay in the system as they are
+        // and the growth since is estimated. On the first assembly (method estimator, or a hybrid
+        // threshold below the starting count, as the thesis' method E) the surface is solved without
+        // crack unknowns and every crack, the given ones included, enters through the estimators only.
+        static const SurfaceMesh no_cracks;
+        const SurfaceMesh& cracks = has_cracks ? *rq.cracks : no_cracks;
+        if (reuse) out.cracks = reuse->cracks;
         const std::size_t ft = out.cracks ? out.cracks->cracks.num_triangles() : 0;
         const std::size_t fv = out.cracks ? out.cracks->cracks.num_vertices() : 0;
-        if (has_cracks) {
-            need_openings(*rq.cracks, fv);
-            out.estimated = update_estimated_growth(*out.surface, nullptr, *rq.cracks, ft, fv, openings, rq.step);
-        } else {
-            auto g = std::make_shared<EstimatedGrowth>();
-            g->k_opening = Vector::Zero(3 * static_cast<Eigen::Index>(out.surface->geometry.size()));
-            g->d_opening = Vector::Zero(3 * static_cast<Eigen::Index>(out.surface->mesh.num_vertices()));
-            g->switch_step = rq.step;
-            out.estimated = g;
-        }
+        if (reuse) need_openings(cracks, fv);
+        out.estimated = update_estimated_growth(*out.surface, nullptr, cracks, ft, fv, reuse ? openings : no_openings, rq.step);
         rep.switched = rep.estimated = true;
         rep.crack_pairs = out.estimated->pairs_last;
-        return out;
-    }
-    if (switch_now) {
-        // Estimator from the first assembly (method estimator, or a hybrid threshold below the
-        // starting count, as the thesis' method E): the surface is solved without crack unknowns,
-        // and every crack, the given ones included, enters through the estimators only.
-        auto g = std::make_shared<EstimatedGrowth>();
-        if (has_cracks) g->cracks = *rq.cracks;
-        g->opening.assign(g->cracks.num_vertices(), Vec3::Zero());
-        g->estimated.assign(g->cracks.num_vertices(), 0);
-        g->integrated.assign(g->cracks.num_triangles(), 0);
-        g->k_opening = Vector::Zero(3 * static_cast<Eigen::Index>(out.surface->geometry.size()));
-        g->d_opening = Vector::Zero(3 * static_cast<Eigen::Index>(out.surface->mesh.num_vertices()));
-        g->switch_step = rq.step;
-        out.estimated = g;
-        rep.switched = rep.estimated = true;
         return out;
     }
     // Full BEM: crack elements appended to the system.

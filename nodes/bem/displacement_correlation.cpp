@@ -9,6 +9,19 @@
 
 namespace cf::bem {
 
+int front_edge_frame(const SurfaceMesh& cracks, int tri, int v0, int v1, Vec3& e1, Vec3& e2, Vec3& e3) {
+    const Tri& t = cracks.triangles[tri];
+    int third = -1;
+    for (int v : t)
+        if (v != v0 && v != v1) third = v;
+    const Vec3 p0 = cracks.vertices[v0], p1 = cracks.vertices[v1];
+    e2 = (cracks.vertices[t[1]] - cracks.vertices[t[0]]).cross(cracks.vertices[t[2]] - cracks.vertices[t[0]]).normalized();
+    e1 = (p1 - p0).normalized().cross(e2);
+    if (e1.dot(p0 - cracks.vertices[third]) < 0) e1 = -e1;
+    e3 = e1.cross(e2);
+    return third;
+}
+
 std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& cracks, const std::vector<Vec3>& opening,
                                                         double E, double nu) {
     std::map<std::pair<int, int>, std::vector<int>> edge_tris;
@@ -35,14 +48,10 @@ std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& crack
         FrontEdgeSif s;
         s.v0 = e.first.first;
         s.v1 = e.first.second;
-        int third = -1;
-        for (int v : t)
-            if (v != s.v0 && v != s.v1) third = v;
+        Vec3 e1, n, e3;
+        const int third = front_edge_frame(cracks, e.second[0], s.v0, s.v1, e1, n, e3);
         const Vec3 p0 = cracks.vertices[s.v0], p1 = cracks.vertices[s.v1];
-        const Vec3 n = (cracks.vertices[t[1]] - cracks.vertices[t[0]]).cross(cracks.vertices[t[2]] - cracks.vertices[t[0]]).normalized();
         const Vec3 tang = (p1 - p0).normalized();
-        Vec3 e1 = tang.cross(n);
-        if (e1.dot(p0 - cracks.vertices[third]) < 0) e1 = -e1;
         s.interior = third;
         if (front[third]) {
             // Interior nodes one edge away from the triangle's corners, behind the edge; the one
@@ -87,7 +96,7 @@ std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& crack
         const Vec3 q = cracks.vertices[s.interior];
         s.e1 = e1;
         s.e2 = n;
-        s.e3 = e1.cross(n);
+        s.e3 = e3;
         s.d = (p0 - q).dot(e1);
         const Vec3& du = opening[s.interior];
         const double f = mu * std::sqrt(2 * M_PI / s.d) / 4;

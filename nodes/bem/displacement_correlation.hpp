@@ -22,6 +22,11 @@ struct FrontEdgeSif {
     double KI = 0, KII = 0, KIII = 0;  // [Pa sqrt(m)]
 };
 
+// Tip frame of front edge (v0, v1) of crack triangle `tri`: e2 the triangle's unit normal, e1 in its
+// plane across the edge and away from the triangle's third vertex, e3 = e1 x e2 (the frame every
+// FrontEdgeSif uses, whichever method fills it). Returns the third vertex.
+int front_edge_frame(const SurfaceMesh& cracks, int tri, int v0, int v1, Vec3& e1, Vec3& e2, Vec3& e3);
+
 // One entry per boundary edge of the crack sheets. Throws std::invalid_argument when a front
 // crack has no interior node behind it.
 std::vector<FrontEdgeSif> displacement_correlation_sifs(const SurfaceMesh& cracks, const std::vector<Vec3>& opening,

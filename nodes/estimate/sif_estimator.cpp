@@ -44,20 +44,6 @@ std::vector<std::vector<FrontEdge>> front_edges(const SurfaceMesh& cracks) {
     return out;
 }
 
-// Frame of displacement correlation (bem/displacement_correlation.cpp): e2 the triangle normal,
-// e1 in its plane across the edge, away from the third vertex, e3 = e1 x e2.
-void edge_frame(const SurfaceMesh& c, const FrontEdge& e, Vec3& e1, Vec3& e2, Vec3& e3) {
-    const Tri& t = c.triangles[e.tri];
-    int third = -1;
-    for (int v : t)
-        if (v != e.v0 && v != e.v1) third = v;
-    const Vec3 p0 = c.vertices[e.v0], p1 = c.vertices[e.v1];
-    e2 = (c.vertices[t[1]] - c.vertices[t[0]]).cross(c.vertices[t[2]] - c.vertices[t[0]]).normalized();
-    e1 = (p1 - p0).normalized().cross(e2);
-    if (e1.dot(p0 - c.vertices[third]) < 0) e1 = -e1;
-    e3 = e1.cross(e2);
-}
-
 // Closest surface triangle to p: index and distance.
 std::pair<std::size_t, double> closest_surface_triangle(const bem::SurfaceOperators& s, const Vec3& p) {
     std::size_t best = 0;
@@ -253,7 +239,7 @@ std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const 
             bem::FrontEdgeSif r;
             r.v0 = e.v0;
             r.v1 = e.v1;
-            edge_frame(cracks, e, r.e1, r.e2, r.e3);
+            bem::front_edge_frame(cracks, e.tri, e.v0, e.v1, r.e1, r.e2, r.e3);
             Vec3 K;
             if (set.kind == EstimatorKind::basic) {
                 K = basic_estimate(sigma[f][i], r.e1, r.e2, r.e3, set.scale, sqrt_pi_a);

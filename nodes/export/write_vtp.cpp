@@ -50,6 +50,17 @@ void write_array(std::ostream& os, const VtpArray& a) {
     os << "        </DataArray>\n";
 }
 
+void write_points(std::ostream& os, const std::vector<Vec3>& points) {
+    for (const Vec3& p : points) {
+        write_real(os, p.x());
+        os << ' ';
+        write_real(os, p.y());
+        os << ' ';
+        write_real(os, p.z());
+        os << '\n';
+    }
+}
+
 }  // namespace
 
 void write_vtp(std::ostream& os, const SurfaceMesh& m, const VtpFields& fields) {
@@ -75,14 +86,7 @@ void write_vtp(std::ostream& os, const SurfaceMesh& m, const VtpFields& fields) 
     for (const VtpArray& a : fields.cell_data) write_array(os, a);
     os << "      </CellData>\n      <Points>\n"
        << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const Vec3& p : m.vertices) {
-        write_real(os, p.x());
-        os << ' ';
-        write_real(os, p.y());
-        os << ' ';
-        write_real(os, p.z());
-        os << '\n';
-    }
+    write_points(os, m.vertices);
     os << "        </DataArray>\n      </Points>\n      <Polys>\n"
        << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (const Tri& f : m.triangles) os << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
@@ -95,13 +99,11 @@ void write_vtp_lines(std::ostream& os, const std::vector<Vec3>& points, const st
                      const std::vector<VtpArray>& point_data) {
     for (const Vec3& p : points)
         if (!p.allFinite()) throw std::invalid_argument("cannot write .vtp: a polyline point is not finite");
-    std::size_t refs = 0;
     for (const auto& l : lines) {
         if (l.size() < 2) throw std::invalid_argument("cannot write .vtp: a polyline has fewer than 2 points");
         for (int i : l)
             if (i < 0 || std::size_t(i) >= points.size())
                 throw std::invalid_argument("cannot write .vtp: polyline point " + std::to_string(i) + " does not exist");
-        refs += l.size();
     }
     std::set<std::string> names;
     check_arrays(point_data, points.size(), "point", names);
@@ -113,14 +115,7 @@ void write_vtp_lines(std::ostream& os, const std::vector<Vec3>& points, const st
     for (const VtpArray& a : point_data) write_array(os, a);
     os << "      </PointData>\n      <Points>\n"
        << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const Vec3& p : points) {
-        write_real(os, p.x());
-        os << ' ';
-        write_real(os, p.y());
-        os << ' ';
-        write_real(os, p.z());
-        os << '\n';
-    }
+    write_points(os, points);
     os << "        </DataArray>\n      </Points>\n      <Lines>\n"
        << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (const auto& l : lines) {
@@ -130,7 +125,6 @@ void write_vtp_lines(std::ostream& os, const std::vector<Vec3>& points, const st
     std::size_t off = 0;
     for (const auto& l : lines) os << (off += l.size()) << '\n';
     os << "        </DataArray>\n      </Lines>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-    (void)refs;
 }
 
 }  // namespace cf

@@ -40,12 +40,11 @@ std::vector<double> vertex_mean_curvature(const SurfaceMesh& mesh) {
         }
         const bool obtuse = cot[0] < 0 || cot[1] < 0 || cot[2] < 0;
         for (int k = 0; k < 3; ++k) {
-            const int i = t[k], j = t[(k + 1) % 3], l = t[(k + 2) % 3];
+            const int i = t[k], j = t[(k + 1) % 3];
             // Edge (i, j) is opposite corner l: weight cot(l) / 2 (cotangent Laplacian).
             const Vec3 e = mesh.vertices[j] - mesh.vertices[i];
             laplace[i] += 0.5 * cot[(k + 2) % 3] * e;
             laplace[j] -= 0.5 * cot[(k + 2) % 3] * e;
-            (void)l;
             // Mixed Voronoi area of corner k (Meyer et al.): Voronoi for non-obtuse triangles.
             if (!obtuse) {
                 const Vec3 a = mesh.vertices[t[(k + 1) % 3]] - mesh.vertices[i], b = mesh.vertices[t[(k + 2) % 3]] - mesh.vertices[i];

@@ -146,10 +146,11 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
     EXPECT_LE(seconds, 2 * report["wall_seconds"].as<double>() + 1.0);  // 2 threads at most
 }
 
-TEST(Cli, CtrlCCancelsCleanly) {
-    auto dir = cf::testing::temp_dir("cli-sigint");
+namespace {
+// Starts a 30 s run, sends `sig` after 0.5 s and returns the exit status; the report is in `dir`.
+int cancel_run_with(int sig, const std::filesystem::path& dir) {
     pid_t pid = fork();
-    ASSERT_GE(pid, 0);
+    if (pid < 0) return -1;
     if (pid == 0) {
         std::freopen("/dev/null", "w", stderr);
         execl(CRACKFLOW_EXE, CRACKFLOW_EXE, "run", src("pipelines/loop_demo.yaml").c_str(), "--set", "settle.seconds=30",
@@ -157,9 +158,16 @@ TEST(Cli, CtrlCCancelsCleanly) {
         _exit(99);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    kill(pid, SIGINT);
+    kill(pid, sig);
     int status = 0;
     waitpid(pid, &status, 0);
+    return status;
+}
+}  // namespace
+
+TEST(Cli, CtrlCCancelsCleanly) {
+    auto dir = cf::testing::temp_dir("cli-sigint");
+    const int status = cancel_run_with(SIGINT, dir);
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 130);
     YAML::Node report = YAML::LoadFile((dir / "report.json").string());
@@ -170,18 +178,7 @@ TEST(Cli, CtrlCCancelsCleanly) {
 // temporary file left behind.
 TEST(Cli, SigtermCancelsCleanly) {
     auto dir = cf::testing::temp_dir("cli-sigterm");
-    pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-        std::freopen("/dev/null", "w", stderr);
-        execl(CRACKFLOW_EXE, CRACKFLOW_EXE, "run", src("pipelines/loop_demo.yaml").c_str(), "--set", "settle.seconds=30",
-              "--out", dir.c_str(), static_cast<char*>(nullptr));
-        _exit(99);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    kill(pid, SIGTERM);
-    int status = 0;
-    waitpid(pid, &status, 0);
+    const int status = cancel_run_with(SIGTERM, dir);
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 143);
     YAML::Node report = YAML::LoadFile((dir / "report.json").string());
