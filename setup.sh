@@ -7,7 +7,8 @@ cd "$(dirname "$0")"
 PACKAGES=(cmake ninja-build g++ pkg-config
           libeigen3-dev libopenvdb-dev libboost-iostreams-dev libtbb-dev libyaml-cpp-dev libcli11-dev
           libcgal-dev libcgal-demo libgmp-dev libmpfr-dev libbullet-dev libpng-dev
-          libgtest-dev libgmock-dev libbenchmark-dev)
+          libgtest-dev libgmock-dev libbenchmark-dev
+          libtinygltf-dev python3-vtk9)
 
 install_missing() {
   local missing=()
@@ -20,6 +21,17 @@ install_missing() {
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+# The animation tests' glTF validator runs on node; the build installs it with npm (tests/tools).
+# Any node + npm will do (e.g. NodeSource's nodejs, which bundles npm); else Debian's.
+ensure_npm() {
+  command -v npm >/dev/null 2>&1 && return 0
+  echo "setup: installing nodejs npm"
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends nodejs npm
 }
 
 configure() {
@@ -35,6 +47,7 @@ case "${1:-}" in
     ;;
   test)
     install_missing
+    ensure_npm
     configure
     cmake --build build -j"$(nproc)"
     ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 900

@@ -41,6 +41,9 @@ public:
         cancel_ = options.cancel_flag ? options.cancel_flag : &own_cancel_;
         node_options_ = options;
         node_options_.cancel_flag = cancel_;
+        if (node_options_.pipeline_dir.empty() && !plan.file.empty())
+            node_options_.pipeline_dir = std::filesystem::absolute(std::filesystem::path(plan.file)).parent_path();
+        if (!node_options_.registry) node_options_.registry = plan.registry;
         result_.stats.resize(n_);
         state_.resize(n_);
         routes_.resize(n_);
@@ -77,7 +80,7 @@ public:
         result_.wall_seconds = seconds_since_start();
         if (!result_.error.empty()) {
             result_.ok = false;
-        } else if (cancel_->load()) {
+        } else if (cancelled()) {
             result_.cancelled = true;
             result_.ok = false;
         } else {
@@ -158,7 +161,7 @@ private:
 
     // Called serially per node.
     void receive(int i, const Packet& pk) {
-        if (cancel_->load()) return;
+        if (cancelled()) return;
         NodeState& s = state_[i];
         const PlanNode& p = plan_.nodes[i];
         if (pk.slot >= 0) {
@@ -195,7 +198,7 @@ private:
             s.iteration_values.erase(iteration);
             it = s.iteration_have.erase(it);
             run_plain(i, inputs, iteration);
-            if (cancel_->load()) return;
+            if (cancelled()) return;
         }
     }
 
@@ -247,7 +250,7 @@ private:
             for (const auto& [port, v] : r.outputs) result_.outputs[p.name][port] = v;
         }
         if (observer_) observer_->node_finished(p.name, iteration, t1 - t0);
-        if (cancel_->load()) return;
+        if (cancelled()) return;
         const int out_iteration = p.per_iteration() ? iteration : -1;
         for (const auto& [port, v] : r.outputs) {
             auto it = routes_[i].find(port);
@@ -324,6 +327,11 @@ private:
     RunOptions node_options_;
     ExecutionObserver* observer_;
     const int n_;
+    // Cancelled by a failure or Ctrl-C here, or by the run that started this one (a sub-pipeline
+    // stops with its caller, but its own failure does not cancel the caller).
+    bool cancelled() const {
+        return cancel_->load() || (options_.outer_cancel_flag && options_.outer_cancel_flag->load());
+    }
     std::atomic<bool> own_cancel_{false};
     std::atomic<bool>* cancel_;
     tbb::flow::graph graph_;

@@ -2,6 +2,7 @@
 // What a node's run function sees: its typed inputs, validated parameters, and ways to emit
 // outputs, report counts, show progress and notice cancellation.
 #include "graph/node_type.hpp"
+#include "graph/registry.hpp"
 
 #include <atomic>
 #include <filesystem>
@@ -25,11 +26,20 @@ struct RunOptions {
     std::filesystem::path output_dir = ".";
     bool fast = false;  // reduced resolution for tests (nodes may lower their defaults)
     std::atomic<bool>* cancel_flag = nullptr;  // set by Ctrl-C handlers; the executor sets it on failure too
+    const std::atomic<bool>* outer_cancel_flag = nullptr;  // read only: the calling run's flag (sub-pipelines)
     std::function<void(const std::string& node, double fraction)> on_progress;
     // Keep the last value of every output port in ExecutionResult::outputs (tests and verification
     // cases read them). `crackflow run` turns it off so a value is freed once its consumers are done
     // (the last BEM step's dense blocks during segmentation, for instance).
     bool keep_outputs = true;
+    // Set by the executor from the plan when empty: the directory of the pipeline file (relative
+    // paths of sub-pipelines resolve against it) and the registry the plan was loaded with.
+    std::filesystem::path pipeline_dir;
+    const NodeRegistry* registry = nullptr;
+    // Values a calling node hands to a pipeline it runs (a sub-pipeline), by name; nodes of that
+    // pipeline read them with NodeContext::pipeline_input (the rigid-body scene passes each
+    // collision's body and loads to its fracture pipeline this way).
+    std::map<std::string, Value> pipeline_inputs;
 };
 
 class NodeContext {
@@ -70,6 +80,7 @@ public:
     // Long loops call this now and then; throws Cancelled after Ctrl-C or a failure elsewhere.
     void check_cancelled() const {
         if (options_.cancel_flag && options_.cancel_flag->load()) throw Cancelled();
+        if (options_.outer_cancel_flag && options_.outer_cancel_flag->load()) throw Cancelled();
     }
     // Throws NodeError with the message; the executor prefixes the node name.
     [[noreturn]] void fail(const std::string& message) const { throw NodeError(message); }
@@ -77,6 +88,12 @@ public:
     const std::string& node_name() const { return name_; }
     const NodeType& type() const { return type_; }
     const std::filesystem::path& output_dir() const { return options_.output_dir; }
+    const RunOptions& run_options() const { return options_; }
+    // A value handed in by the node that runs this pipeline; null when there is none.
+    const Value* pipeline_input(const std::string& name) const {
+        const auto it = options_.pipeline_inputs.find(name);
+        return it == options_.pipeline_inputs.end() ? nullptr : &it->second;
+    }
     bool fast() const { return options_.fast; }
     int iteration() const { return iteration_; }  // loop iteration, -1 outside loops
     // A path parameter with '{iteration}' replaced by the loop iteration (4 digits, 0 outside

@@ -678,6 +678,7 @@ Plan load_pipeline_text(const std::string& text, const std::string& file_name, c
     const std::size_t first = diags.size();
     Loader loader(file_name, registry, diags);
     Plan plan = loader.load(root, options);
+    plan.registry = &registry;
     std::stable_sort(diags.begin() + first, diags.end(), [](const Diagnostic& a, const Diagnostic& b) {
         return std::tie(a.loc.line, a.loc.column) < std::tie(b.loc.line, b.loc.column);
     });

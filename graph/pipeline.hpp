@@ -63,6 +63,7 @@ struct PlanNode {
 
 struct Plan {
     std::string file;
+    const NodeRegistry* registry = nullptr;  // the registry it was loaded with (sub-pipelines use it too)
     std::vector<PlanNode> nodes;  // in a topological order of the non-loop-back edges
     int find(const std::string& name) const;
 };

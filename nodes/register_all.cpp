@@ -22,6 +22,7 @@ const graph::NodeRegistry& node_registry() {
         register_initiate_nodes(r);
         register_propagate_nodes(r);
         register_estimate_nodes(r);
+        register_rigid_nodes(r);
         return r;
     }();
     return registry;

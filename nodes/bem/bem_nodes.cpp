@@ -99,6 +99,9 @@ graph::NodeType solve_node() {
                       "factorisation is reused and the crack Schur factor extended when only crack unknowns were appended.");
     t.input<bem::BemOperators>("operators", "from assemble.sgbem");
     t.optional_input<bem::BemSolution>("previous", "solution of the previous step (factorisations to reuse)");
+    t.optional_input<bem::BoundaryConditions>(
+        "conditions", "boundary conditions as a value (e.g. per-element collision tractions from rigid.impact, ch. 7.2); "
+                      "when connected they replace the parameter 'boundary_conditions'");
     t.output<bem::BemSolution>("solution", "nodal displacements [m], element tractions [Pa], crack opening [m]");
     t.param_string("boundary_conditions", "*: traction 0 0 0",
                    "per region 'name: displacement x y z' [m] or 'name: traction x y z' [Pa], ';'-separated; '*' covers "
@@ -111,8 +114,10 @@ graph::NodeType solve_node() {
         const bem::BemSolution* prev = c.has("previous") ? &c.in<bem::BemSolution>("previous") : nullptr;
         std::shared_ptr<const bem::BemSolution> sol;
         try {
-            const bem::ResolvedConditions bc =
-                bem::resolve(bem::parse_boundary_conditions(c.string("boundary_conditions")), ops.surface->mesh);
+            const bem::ResolvedConditions bc = bem::resolve(
+                c.has("conditions") ? c.in<bem::BoundaryConditions>("conditions")
+                                    : bem::parse_boundary_conditions(c.string("boundary_conditions")),
+                ops.surface->mesh);
             bem::CrackLoads loads;
             if (ops.cracks) loads.pressure.assign(ops.cracks->cracks.num_regions(), c.real("crack_pressure"));
             bem::SolveOptions so;

@@ -5,10 +5,14 @@
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleIndexVertexArray.h>
+#include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
+#include <BulletCollision/Gimpact/btGImpactShape.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 static_assert(sizeof(btScalar) == sizeof(double), "crackflow links Bullet in double precision (bullet-float64)");
@@ -28,6 +32,14 @@ struct RigidWorld::Impl {
     btSequentialImpulseConstraintSolver solver;
     btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
+    // Triangle data of GImpact shapes: Bullet keeps pointers into these arrays.
+    struct TriangleData {
+        std::vector<double> vertices;
+        std::vector<int> indices;
+        std::unique_ptr<btTriangleIndexVertexArray> array;
+    };
+    std::vector<std::unique_ptr<TriangleData>> triangle_data;
+    std::vector<char> removed;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // [0, n): crackflow bodies in id order
     std::vector<std::unique_ptr<btRigidBody>> planes;
     std::vector<MassProperties> mass;
@@ -38,16 +50,15 @@ struct RigidWorld::Impl {
         world.getSolverInfo().m_numIterations = s.solver_iterations;
         world.getSolverInfo().m_solverMode &= ~SOLVER_RANDMIZE_ORDER;
         world.getDispatchInfo().m_deterministicOverlappingPairs = true;
+        btGImpactCollisionAlgorithm::registerAlgorithm(&dispatcher);
     }
     ~Impl() {
-        for (auto& b : bodies) world.removeRigidBody(b.get());
+        for (std::size_t i = 0; i < bodies.size(); ++i)
+            if (!removed[i]) world.removeRigidBody(bodies[i].get());
         for (auto& b : planes) world.removeRigidBody(b.get());
     }
-    int id_of(const btCollisionObject* o) const {
-        for (std::size_t i = 0; i < bodies.size(); ++i)
-            if (bodies[i].get() == o) return static_cast<int>(i);
-        return -1;
-    }
+    // Body ids ride on Bullet's user index (-1, Bullet's default, for ground planes).
+    static int id_of(const btCollisionObject* o) { return o->getUserIndex(); }
 };
 
 RigidWorld::RigidWorld(const WorldSettings& settings) : impl_(std::make_unique<Impl>(settings)) {
@@ -61,21 +72,44 @@ int RigidWorld::add_body(const BodySpec& s) {
         if (!v.allFinite()) throw std::invalid_argument("body '" + s.name + "': velocities must be finite");
     MassProperties mp;
     try {
-        mp = mass_properties(s.mesh, s.density);
+        mp = s.mass ? *s.mass : mass_properties(s.mesh, s.density);
+        if (!(mp.mass > 0) || !mp.principal_moments.allFinite() || !(mp.principal_moments.minCoeff() > 0))
+            throw std::invalid_argument("mass " + std::to_string(mp.mass) + " kg and principal moments must be positive");
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument("body '" + s.name + "': " + e.what());
     }
-    // Body frame: centre of mass, principal axes. Hull points in that frame.
+    // Body frame: centre of mass, principal axes. Shape points in that frame.
     const Mat3 R = mp.principal_axes;
-    auto hull = std::make_unique<btConvexHullShape>();
-    for (const Vec3& v : s.mesh.vertices) hull->addPoint(bt(R.transpose() * (v - mp.centre)), false);
     const Box3 box = bounding_box(s.mesh);
-    hull->setMargin(s.collision_margin > 0 ? s.collision_margin : 0.01 * box.extent().minCoeff());
-    hull->recalcLocalAabb();
+    const double margin = s.collision_margin > 0 ? s.collision_margin : 0.01 * box.extent().minCoeff();
+    std::unique_ptr<btCollisionShape> shape;
+    if (s.collision == CollisionShape::hull) {
+        auto hull = std::make_unique<btConvexHullShape>();
+        for (const Vec3& v : s.mesh.vertices) hull->addPoint(bt(R.transpose() * (v - mp.centre)), false);
+        hull->setMargin(margin);
+        hull->recalcLocalAabb();
+        shape = std::move(hull);
+    } else {
+        const SurfaceMesh& cm = s.collision_mesh.triangles.empty() ? s.mesh : s.collision_mesh;
+        auto data = std::make_unique<Impl::TriangleData>();
+        for (const Vec3& v : cm.vertices) {
+            const Vec3 b = R.transpose() * (v - mp.centre);
+            data->vertices.insert(data->vertices.end(), {b.x(), b.y(), b.z()});
+        }
+        for (const Tri& t : cm.triangles) data->indices.insert(data->indices.end(), {t[0], t[1], t[2]});
+        data->array = std::make_unique<btTriangleIndexVertexArray>(
+            static_cast<int>(cm.triangles.size()), data->indices.data(), 3 * static_cast<int>(sizeof(int)),
+            static_cast<int>(cm.vertices.size()), data->vertices.data(), 3 * static_cast<int>(sizeof(double)));
+        auto mesh = std::make_unique<btGImpactMeshShape>(data->array.get());
+        mesh->setMargin(margin);
+        mesh->updateBound();
+        shape = std::move(mesh);
+        impl_->triangle_data.push_back(std::move(data));
+    }
     const bool dynamic = s.kind == BodyKind::dynamic;
     const double m = dynamic ? mp.mass : 0.0;
     const btVector3 inertia = dynamic ? bt(mp.principal_moments) : btVector3(0, 0, 0);
-    btRigidBody::btRigidBodyConstructionInfo info(m, nullptr, hull.get(), inertia);
+    btRigidBody::btRigidBodyConstructionInfo info(m, nullptr, shape.get(), inertia);
     const Eigen::Quaterniond q(R);
     info.m_startWorldTransform = btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(mp.centre));
     info.m_friction = s.friction;
@@ -83,12 +117,14 @@ int RigidWorld::add_body(const BodySpec& s) {
     auto body = std::make_unique<btRigidBody>(info);
     if (s.kind == BodyKind::kinematic) body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
     body->setActivationState(DISABLE_DEACTIVATION);
+    body->setUserIndex(static_cast<int>(impl_->bodies.size()));
     body->setLinearVelocity(bt(s.velocity));
     body->setAngularVelocity(bt(s.angular_velocity));
     impl_->world.addRigidBody(body.get());
-    impl_->shapes.push_back(std::move(hull));
+    impl_->shapes.push_back(std::move(shape));
     impl_->bodies.push_back(std::move(body));
     impl_->mass.push_back(mp);
+    impl_->removed.push_back(0);
     return static_cast<int>(impl_->bodies.size() - 1);
 }
 
@@ -102,6 +138,69 @@ void RigidWorld::add_ground_plane(const Vec3& n, double offset, double friction,
     impl_->world.addRigidBody(body.get());
     impl_->shapes.push_back(std::move(shape));
     impl_->planes.push_back(std::move(body));
+}
+
+void RigidWorld::remove_body(int id) {
+    const std::size_t i = static_cast<std::size_t>(id);
+    if (i >= impl_->bodies.size() || impl_->removed[i]) throw std::logic_error("rigid world: no active body " + std::to_string(id));
+    impl_->world.removeRigidBody(impl_->bodies[i].get());
+    impl_->removed[i] = 1;
+}
+
+bool RigidWorld::active(int id) const {
+    const std::size_t i = static_cast<std::size_t>(id);
+    return i < impl_->bodies.size() && !impl_->removed[i];
+}
+
+std::vector<BodyState> RigidWorld::snapshot() const {
+    std::vector<BodyState> out;
+    out.reserve(impl_->bodies.size());
+    for (std::size_t i = 0; i < impl_->bodies.size(); ++i) out.push_back(state(static_cast<int>(i)));
+    return out;
+}
+
+void RigidWorld::restore(const std::vector<BodyState>& states) {
+    if (states.size() > impl_->bodies.size()) throw std::logic_error("rigid world: snapshot of more bodies than exist");
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        btRigidBody& b = *impl_->bodies[i];
+        const BodyState& s = states[i];
+        const btTransform t(btQuaternion(s.rotation.x(), s.rotation.y(), s.rotation.z(), s.rotation.w()), bt(s.position));
+        b.setWorldTransform(t);
+        b.setInterpolationWorldTransform(t);
+        b.setLinearVelocity(bt(s.velocity));
+        b.setAngularVelocity(bt(s.angular_velocity));
+        b.setInterpolationLinearVelocity(bt(s.velocity));
+        b.setInterpolationAngularVelocity(bt(s.angular_velocity));
+        b.clearForces();
+        if (!impl_->removed[i] && b.getBroadphaseHandle())
+            impl_->world.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(b.getBroadphaseHandle(),
+                                                                                         &impl_->dispatcher);
+    }
+    for (auto& p : impl_->planes)
+        if (p->getBroadphaseHandle())
+            impl_->world.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(p->getBroadphaseHandle(),
+                                                                                         &impl_->dispatcher);
+    impl_->world.updateAabbs();
+}
+
+std::vector<std::pair<int, int>> RigidWorld::overlaps(double depth) {
+    impl_->world.updateAabbs();
+    impl_->world.performDiscreteCollisionDetection();
+    std::vector<std::pair<int, int>> out;
+    btCollisionDispatcher& d = impl_->dispatcher;
+    for (int i = 0; i < d.getNumManifolds(); ++i) {
+        const btPersistentManifold* m = d.getManifoldByIndexInternal(i);
+        double deepest = 0;
+        for (int k = 0; k < m->getNumContacts(); ++k) deepest = std::min(deepest, double(m->getContactPoint(k).getDistance()));
+        if (deepest < -depth) {
+            int a = impl_->id_of(m->getBody0()), b = impl_->id_of(m->getBody1());
+            if (a > b) std::swap(a, b);
+            out.emplace_back(a, b);
+        }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 void RigidWorld::step() {
@@ -139,6 +238,7 @@ std::vector<Contact> RigidWorld::contacts() const {
             c.point_a = cf_vec(p.getPositionWorldOnA());
             c.point_b = cf_vec(p.getPositionWorldOnB());
             c.normal_on_b = cf_vec(p.m_normalWorldOnB);
+            c.distance = p.getDistance();
             c.impulse = p.getAppliedImpulse();
             out.push_back(c);
         }

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct WorldSettings {
 };
 
 enum class BodyKind { dynamic, kinematic, fixed };
+// Collision shape: the convex hull of the mesh, or the (non-convex) triangle mesh itself (Bullet's
+// GImpact, thesis ch. 7.3 class (b) and (c) fragments, tori, bowls).
+enum class CollisionShape { hull, mesh };
 
 struct BodySpec {
     std::string name;
@@ -34,6 +38,11 @@ struct BodySpec {
     // Bullet keeps convex shapes this far apart (it adds the margin outside the hull); 0: 1 % of the
     // body's smallest bounding-box extent (Bullet's default 0.04 m would float a 10 cm brick 4 cm high).
     double collision_margin = 0;  // [m]
+    CollisionShape collision = CollisionShape::hull;
+    SurfaceMesh collision_mesh;   // world coordinates; empty: `mesh` (for CollisionShape::mesh)
+    // Given mass properties (world axes, as mass_properties() returns) instead of those of `mesh`:
+    // a fragment's mass comes from its level-set volume, its centre and inertia from its mesh.
+    std::optional<MassProperties> mass;
 };
 
 // A body's pose: world position of its centre of mass and the rotation from body axes (the
@@ -48,6 +57,7 @@ struct Contact {
     int body_a = -1, body_b = -1;      // body ids; -1 for the ground plane
     Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();  // world points on each body [m]
     Vec3 normal_on_b = Vec3::Zero();   // unit, from b towards a (Bullet's m_normalWorldOnB)
+    double distance = 0;               // signed separation [m] (negative: penetration)
     double impulse = 0;                // normal impulse of the step [N s]
 };
 
@@ -64,6 +74,21 @@ public:
     int add_body(const BodySpec& spec);
     // An infinite static plane n . x = offset (n normalised).
     void add_ground_plane(const Vec3& normal, double offset, double friction = 0.5, double restitution = 0.0);
+
+    // Takes a body out of the world (a broken parent); its id is not reused and state() still
+    // returns its last state.
+    void remove_body(int id);
+    bool active(int id) const;
+
+    // The state of every body (removed ones included), and setting it back: a rigid step that broke
+    // a body is repeated from the state before it (ch. 7.3). restore() also drops the contact
+    // manifolds, so the repeated step starts as the first did (no warm start from its impulses).
+    std::vector<BodyState> snapshot() const;
+    void restore(const std::vector<BodyState>& states);
+
+    // Pairs of bodies (ids, -1 for the ground) that overlap deeper than `depth` [m] now (a scene
+    // whose bodies start inside one another).
+    std::vector<std::pair<int, int>> overlaps(double depth);
 
     void step();                        // one fixed time step
     double time() const;                // simulated time [s]

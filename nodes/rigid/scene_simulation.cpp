@@ -1,0 +1,547 @@
+#include "nodes/rigid/scene_simulation.hpp"
+
+#include "graph/node_context.hpp"
+#include "nodes/propagate/propagation_law.hpp"
+#include "nodes/rigid/balanced_tractions.hpp"
+#include "nodes/rigid/contact_duration.hpp"
+#include "nodes/rigid/fragment_motion.hpp"
+#include "nodes/rigid/mass_properties.hpp"
+#include "nodes/simplify/remesh.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <limits>
+#include <stdexcept>
+
+namespace cf::rigid {
+
+namespace {
+
+using graph_cancelled = graph::Cancelled;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+Eigen::Isometry3d body_to_world(const BodyState& s) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = s.rotation.normalized().toRotationMatrix();
+    T.translation() = s.position;
+    return T;
+}
+
+// The body frame Bullet gives a body made from these mass properties (rigid_world.hpp).
+Eigen::Isometry3d principal_frame(const MassProperties& mp) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = mp.principal_axes;
+    T.translation() = mp.centre;
+    return T;
+}
+
+SurfaceMesh transformed(const SurfaceMesh& m, const Eigen::Isometry3d& T) {
+    SurfaceMesh out = m;
+    for (Vec3& v : out.vertices) v = T * v;
+    return out;
+}
+
+std::string format_number(double x) {
+    std::ostringstream os;
+    os.precision(6);
+    os << x;
+    return os.str();
+}
+
+}  // namespace
+
+SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles, double offset_voxels) {
+    // Fragments carry sharp, thin wedges where cracks meet the surface; simplified straight from r_f
+    // they fold into self-intersections. Remesh from a grid about a quarter of the target element
+    // size instead (as the shipped pipelines remesh from a coarse level set), on no finer than r_f.
+    const SurfaceMesh fine = level_set_to_mesh(object, 0);
+    const double area = surface_area(fine);
+    const double edge = std::sqrt(4 * area / (std::sqrt(3.0) * double(target_triangles)));
+    const double thinnest = bounding_box(fine).extent().minCoeff();
+    const double voxel = std::max(object.voxel_size, std::min(edge / 4, thinnest / 5));
+    const LevelSet coarse = voxel > 1.5 * object.voxel_size ? level_set_from_mesh(fine, voxel) : object;
+    RemeshOptions o;
+    o.target_triangles = target_triangles;
+    o.offset_voxels = offset_voxels;
+    try {
+        return remesh(coarse, o).mesh;
+    } catch (const std::exception&) {
+        if (offset_voxels == 0) throw;
+        o.offset_voxels = 0;  // the outward offset is what folds thin wedges most often
+        return remesh(coarse, o).mesh;
+    }
+}
+
+BreakableModel make_breakable_model(std::shared_ptr<const FractureSettings> settings, LevelSet object,
+                                    double original_volume, std::shared_ptr<const SurfaceMesh> bem_mesh) {
+    BreakableModel m;
+    m.settings = std::move(settings);
+    m.volume = level_set_volume(object);
+    m.original_volume = original_volume > 0 ? original_volume : m.volume;
+    if (!bem_mesh)
+        bem_mesh = std::make_shared<const SurfaceMesh>(
+            coarse_surface(object, static_cast<std::size_t>(m.settings->bem_triangles), 1));
+    m.object = std::move(object);
+    m.bem_mesh = std::move(bem_mesh);
+    m.curvature = triangle_mean_curvature(*m.bem_mesh);
+    return m;
+}
+
+// --- the pieces of a scene -----------------------------------------------------------------------
+
+struct Piece {
+    int body = -1;          // RigidWorld id
+    int animation = -1;     // index into pieces (AnimationPiece)
+    bool alive = true;
+    bool dynamic = true;
+    Eigen::Isometry3d material_to_body = Eigen::Isometry3d::Identity();
+    std::shared_ptr<const BreakableModel> breakable;
+    double E = 1e10, nu = 0.25, density = 1000, mass = 0;
+    double friction = 0.5, restitution = 0;
+    // Surface used for the partner's curvature in the Hertz model (body frame), and |H| per
+    // triangle; empty: |H| from the volume-equivalent sphere (small hull fragments).
+    std::shared_ptr<const SurfaceMesh> contact_mesh;
+    std::vector<double> contact_curvature;
+    double sphere_curvature = 0;
+    int children = 0;       // fragments made from it so far (names)
+    // The largest loads it withstood in a run that did not break it: a body resting on its supports
+    // is not run again every step for the same load, only for one 25 % larger.
+    double withstood_impulse = 0, withstood_force = 0;
+    int parent = -1;             // piece it broke from
+    long long born_step = 0;     // rigid step it was made in
+};
+// Fragments of one break start a gap of sqrt(3) r_f apart, closer than Bullet's collision margins,
+// and their convex hulls overlap: the impulses that push siblings apart in their first steps are
+// contact resolution, not impacts, and start no fracture runs.
+constexpr long long sibling_grace_steps = 10;
+constexpr double rerun_factor = 1.25;
+
+struct SceneSimulation::Impl {
+    SceneSettings settings;
+    RigidWorld world;
+    FractureRunner runner;
+    std::vector<Piece> pieces;            // by RigidWorld id
+    std::vector<AnimationPiece> animation;
+    std::vector<FractureRunRecord> runs;
+    long long step_index = 0;
+
+    Impl(const SceneSettings& s, FractureRunner r) : settings(s), world(s.world), runner(std::move(r)) {}
+
+    double curvature_at(const Piece& p, const BodyState& s, const Vec3& world_point) const {
+        if (p.breakable) {
+            const Vec3 x = p.material_to_body.inverse() * (body_to_world(s).inverse() * world_point);
+            return p.breakable->curvature[static_cast<std::size_t>(closest_triangle(*p.breakable->bem_mesh, x))];
+        }
+        if (p.contact_mesh && !p.contact_curvature.empty()) {
+            const Vec3 x = body_to_world(s).inverse() * world_point;
+            return p.contact_curvature[static_cast<std::size_t>(closest_triangle(*p.contact_mesh, x))];
+        }
+        return p.sphere_curvature;
+    }
+
+    ContactBody contact_body(const Piece& p, double curvature) const {
+        ContactBody b;
+        b.E = p.E;
+        b.nu = p.nu;
+        b.mass = p.dynamic ? p.mass : 0.0;
+        b.mean_curvature = curvature;
+        return b;
+    }
+
+    int add_piece(Piece piece, const BodySpec& spec, AnimationPiece anim) {
+        const int id = world.add_body(spec);
+        if (id != static_cast<int>(pieces.size())) throw std::logic_error("scene: body ids out of step with pieces");
+        piece.body = id;
+        piece.mass = spec.kind == BodyKind::dynamic ? world.mass_properties_of(id).mass : 0.0;
+        piece.animation = static_cast<int>(animation.size());
+        anim.mass = piece.mass;
+        animation.push_back(std::move(anim));
+        pieces.push_back(std::move(piece));
+        if (static_cast<long long>(pieces.size()) > settings.max_pieces)
+            throw std::runtime_error("scene: more than " + std::to_string(settings.max_pieces) +
+                                     " pieces; raise 'max_pieces' of rigid.scene or coarsen the fracture (r_f, min volumes)");
+        return id;
+    }
+
+    // Contacts of the last step, grouped by the breakable piece they load (material frame).
+    std::map<int, std::vector<BodyContact>> breakable_contacts(const std::vector<BodyState>& before) const {
+        std::map<int, std::vector<BodyContact>> out;
+        const std::vector<BodyState> now = world.snapshot();
+        auto velocity_at = [&](int id, const Vec3& x) -> Vec3 {
+            if (id < 0) return Vec3::Zero();
+            const BodyState& s = before[static_cast<std::size_t>(id)];
+            return s.velocity + s.angular_velocity.cross(x - s.position);
+        };
+        for (const Contact& c : world.contacts()) {
+            const Vec3 n = c.normal_on_b.normalized();  // from b towards a: the impulse on a is +n
+            const double approach = (velocity_at(c.body_b, c.point_b) - velocity_at(c.body_a, c.point_a)).dot(n);
+            const int ids[2] = {c.body_a, c.body_b};
+            const Vec3 points[2] = {c.point_a, c.point_b};
+            for (int side = 0; side < 2; ++side) {
+                const int id = ids[side], other = ids[1 - side];
+                if (id < 0 || !pieces[static_cast<std::size_t>(id)].breakable) continue;
+                const Piece& p = pieces[static_cast<std::size_t>(id)];
+                if (other >= 0 && p.parent >= 0 && pieces[static_cast<std::size_t>(other)].parent == p.parent &&
+                    step_index - std::max(p.born_step, pieces[static_cast<std::size_t>(other)].born_step) < sibling_grace_steps)
+                    continue;
+                const Eigen::Isometry3d world_to_material =
+                    p.material_to_body.inverse() * body_to_world(now[static_cast<std::size_t>(id)]).inverse();
+                BodyContact bc;
+                bc.point = world_to_material * points[side];
+                bc.direction = world_to_material.linear() * (side == 0 ? n : Vec3(-n));
+                bc.impulse = c.impulse;
+                bc.approach_speed = std::abs(approach);
+                if (other < 0) {
+                    bc.partner.E = settings.ground_E;
+                    bc.partner.nu = settings.ground_nu;
+                    bc.partner.mass = 0;
+                    bc.partner.mean_curvature = 0;
+                } else {
+                    const Piece& q = pieces[static_cast<std::size_t>(other)];
+                    bc.partner = contact_body(q, curvature_at(q, now[static_cast<std::size_t>(other)], points[1 - side]));
+                }
+                out[id].push_back(bc);
+            }
+        }
+        return out;
+    }
+
+    // BEM time steps whose simulated time (r_c / c_R each, ch. 4.5.2) fits in the contact (ch. 8).
+    static long long fracture_step_bound(const BreakableModel& m, double duration) {
+        const Material& mat = m.settings->material;
+        const double r_f = m.object.voxel_size;
+        const double substeps = std::ceil(m.settings->r_c / r_f);
+        const double step_time = substeps * propagate::substep_duration(r_f, propagate::rayleigh_speed(mat.mu(), mat.rho));
+        return std::max(1LL, static_cast<long long>(std::llround(duration / step_time)));
+    }
+
+    struct Candidate {
+        int piece = -1;
+        ImpactLoads loads;
+        ImpactRun run;
+        Fragments fragments;
+        double seconds = 0;
+        std::string error;
+    };
+
+    std::vector<Candidate> fracture_candidates(const std::vector<BodyState>& before, int frame) const {
+        std::vector<Candidate> out;
+        for (auto& [id, contacts] : breakable_contacts(before)) {
+            const Piece& p = pieces[static_cast<std::size_t>(id)];
+            const FractureSettings& fs = *p.breakable->settings;
+            Candidate c;
+            c.piece = id;
+            c.loads = impact_loads(*p.breakable->bem_mesh, p.breakable->curvature, contact_body(p, 0), contacts,
+                                   settings.world.time_step, fs.limits);
+            const bool impulse = c.loads.impulse >= fs.impulse_threshold && c.loads.impulse > rerun_factor * p.withstood_impulse;
+            const bool force = c.loads.force >= fs.force_threshold && c.loads.force > rerun_factor * p.withstood_force;
+            if (!impulse && !force) continue;
+            c.run.body = animation[static_cast<std::size_t>(p.animation)].name;
+            c.run.frame = frame;
+            c.run.step = static_cast<int>(step_index);
+            c.run.model = p.breakable;
+            c.run.conditions.others = bem::RegionCondition{bem::RegionCondition::Kind::traction, Vec3::Zero()};
+            c.run.conditions.element_tractions = balance_tractions(*p.breakable->bem_mesh, c.loads.traction).traction;
+            c.run.max_steps = fracture_step_bound(*p.breakable, c.loads.contact_duration);
+            c.run.output_dir = std::filesystem::path("fracture_runs") /
+                               (std::to_string(frame) + "_" + std::to_string(step_index) + "_" + c.run.body);
+            out.push_back(std::move(c));
+        }
+        return out;
+    }
+
+    // Fragment k of piece `parent` as a new piece (ch. 7.3), placed by the parent's state `s`.
+    void add_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame) {
+        Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
+        const BreakableModel& model = *parent.breakable;
+        const std::shared_ptr<const FractureSettings> fs = model.settings;
+        const AnimationPiece& parent_anim = animation[static_cast<std::size_t>(parent.animation)];
+        const double V0 = model.original_volume;
+        PieceClass cls = PieceClass::breakable;
+        if (f.volume > 0.95 * model.volume) cls = PieceClass::large;
+        else if (f.volume <= 0.005 * V0) cls = PieceClass::hull;
+        else if (f.volume <= 0.02 * V0) cls = PieceClass::mesh;
+
+        const Eigen::Isometry3d material_to_world = body_to_world(s) * parent.material_to_body;
+        const SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
+        const SurfaceMesh world_mesh = transformed(material_mesh, material_to_world);
+        MassProperties mp = mass_properties(world_mesh, model.settings->material.rho);
+        // Mass from the level-set volume (thesis ch. 7.2), centre and inertia from the mesh.
+        const double mass = f.volume * model.settings->material.rho;
+        mp.inertia *= mass / mp.mass;
+        mp.principal_moments *= mass / mp.mass;
+        mp.mass = mass;
+        mp.volume = f.volume;
+
+        Piece piece;
+        piece.dynamic = true;
+        piece.parent = parent_id;
+        piece.born_step = step_index;
+        piece.E = parent.E;
+        piece.nu = parent.nu;
+        piece.density = parent.density;
+        piece.friction = parent.friction;
+        piece.restitution = parent.restitution;
+        const Eigen::Isometry3d world_to_body = principal_frame(mp).inverse();
+        piece.material_to_body = world_to_body * material_to_world;
+
+        BodySpec spec;
+        spec.name = parent_anim.name + "." + std::to_string(parent.children++);
+        spec.kind = BodyKind::dynamic;
+        spec.mesh = world_mesh;
+        spec.mass = mp;
+        spec.friction = parent.friction;
+        spec.restitution = parent.restitution;
+        const RigidMotion motion = fragment_motion(RigidMotion{s.position, s.velocity, s.angular_velocity}, mp.centre);
+        spec.velocity = motion.velocity;
+        spec.angular_velocity = motion.angular_velocity;
+
+        if (cls == PieceClass::large || cls == PieceClass::breakable) {
+            try {
+                auto m = std::make_shared<const BreakableModel>(make_breakable_model(
+                    fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr));
+                piece.breakable = m;
+                spec.collision = CollisionShape::mesh;
+                spec.collision_mesh = transformed(*m->bem_mesh, material_to_world);
+            } catch (const std::exception&) {
+                cls = PieceClass::mesh;  // too thin to remesh at the BEM target: collides, never breaks again
+            }
+        }
+        if (cls == PieceClass::mesh) {
+            try {
+                const SurfaceMesh coarse = coarse_surface(
+                    f.grid, static_cast<std::size_t>(fs->collision_mesh_factor * double(fs->bem_triangles)), 0);
+                spec.collision = CollisionShape::mesh;
+                spec.collision_mesh = transformed(coarse, material_to_world);
+                piece.contact_mesh = std::make_shared<const SurfaceMesh>(transformed(coarse, piece.material_to_body));
+                piece.contact_curvature = triangle_mean_curvature(*piece.contact_mesh);
+            } catch (const std::exception&) {
+                cls = PieceClass::hull;
+            }
+        }
+        if (cls == PieceClass::hull) spec.collision = CollisionShape::hull;
+        piece.sphere_curvature = std::cbrt(4.0 * M_PI / (3.0 * f.volume));
+
+        AnimationPiece anim;
+        anim.name = spec.name;
+        anim.parent = parent.animation;
+        anim.piece_class = cls;
+        anim.volume = f.volume;
+        anim.dynamic = true;
+        anim.rest_mesh = std::make_shared<const SurfaceMesh>(transformed(material_mesh, piece.material_to_body));
+        anim.first_frame = frame;
+        add_piece(std::move(piece), spec, std::move(anim));
+    }
+
+    // One rigid step; fracture runs after it unless `repeat` (the repeated step of ch. 7.3).
+    void rigid_step(int frame, FrameReport& report) {
+        const std::vector<BodyState> before = world.snapshot();
+        const auto t0 = Clock::now();
+        world.step();
+        report.rigid_seconds += seconds_since(t0);
+        std::vector<Candidate> candidates = fracture_candidates(before, frame);
+        if (candidates.empty()) {
+            ++step_index;
+            return;
+        }
+        const auto t1 = Clock::now();
+        // Independent runs (one per body) run concurrently; each is deterministic by itself.
+        tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t k) {
+            const auto tk = Clock::now();
+            // A run that fails (e.g. a fragment's BEM mesh too degenerate to solve on) leaves the body
+            // whole; the failure is recorded with the run, and the scene goes on. Cancellation stops it.
+            try {
+                candidates[k].fragments = runner(candidates[k].run);
+            } catch (const graph_cancelled&) {
+                throw;
+            } catch (const std::exception& e) {
+                candidates[k].error = e.what();
+            }
+            candidates[k].seconds = seconds_since(tk);
+        });
+        report.fracture_seconds += seconds_since(t1);
+        report.fracture_runs += static_cast<int>(candidates.size());
+
+        std::vector<std::pair<int, std::vector<const Fragment*>>> broken;
+        for (Candidate& c : candidates) {
+            const Piece& p = pieces[static_cast<std::size_t>(c.piece)];
+            FractureRunRecord r;
+            r.frame = frame;
+            r.body = c.run.body;
+            r.impulse = c.loads.impulse;
+            r.force = c.loads.force;
+            r.contact_duration = c.loads.contact_duration;
+            r.max_steps = c.run.max_steps;
+            r.bem_triangles = p.breakable->bem_mesh->num_triangles();
+            r.seconds = c.seconds;
+            r.error = c.error;
+            std::vector<const Fragment*> kept;
+            for (const Fragment& f : c.fragments.fragments) {
+                if (f.volume < p.breakable->settings->min_fragment_fraction * p.breakable->original_volume) ++r.dropped;
+                else kept.push_back(&f);
+            }
+            r.fragments = static_cast<int>(kept.size());
+            r.broke = kept.size() > 1;
+            runs.push_back(r);
+            if (r.broke) {
+                broken.emplace_back(c.piece, std::move(kept));
+            } else {
+                Piece& q = pieces[static_cast<std::size_t>(c.piece)];
+                q.withstood_impulse = std::max(q.withstood_impulse, c.loads.impulse);
+                q.withstood_force = std::max(q.withstood_force, c.loads.force);
+            }
+        }
+        if (broken.empty()) {
+            ++step_index;
+            return;
+        }
+        // Replace the broken bodies by their fragments at the state before the step, then repeat it.
+        // Making the fragments' bodies (meshes, remeshing, mass properties) counts as fracture time.
+        const auto t_fragments = Clock::now();
+        world.restore(before);
+        for (auto& [id, fragments] : broken) {
+            Piece& parent = pieces[static_cast<std::size_t>(id)];
+            parent.alive = false;
+            world.remove_body(id);
+            animation[static_cast<std::size_t>(parent.animation)].last_frame = frame - 1;
+            for (const Fragment* f : fragments) add_fragment(id, before[static_cast<std::size_t>(id)], *f, frame);
+            report.breaks += 1;
+            report.new_pieces += static_cast<int>(fragments.size());
+        }
+        report.fracture_seconds += seconds_since(t_fragments);
+        const auto t2 = Clock::now();
+        world.step();
+        report.rigid_seconds += seconds_since(t2);
+        ++step_index;
+    }
+};
+
+SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& bodies, FractureRunner runner)
+    : settings_(settings) {
+    if (!(settings.world.time_step > 0) || !std::isfinite(settings.world.time_step))
+        throw std::invalid_argument("scene: 'time_step' must be positive and finite [s]");
+    if (!(settings.frame_rate > 0) || !std::isfinite(settings.frame_rate))
+        throw std::invalid_argument("scene: 'frame_rate' must be positive [1/s]");
+    const double steps = 1.0 / (settings.frame_rate * settings.world.time_step);
+    steps_per_frame_ = static_cast<int>(std::llround(steps));
+    if (steps_per_frame_ < 1 || std::abs(steps - steps_per_frame_) > 1e-6 * steps)
+        throw std::invalid_argument("scene: one frame (1 / frame_rate = " + format_number(1 / settings.frame_rate) +
+                                    " s) must be a whole number of rigid steps (time_step = " +
+                                    format_number(settings.world.time_step) + " s)");
+    if (bodies.empty()) throw std::invalid_argument("scene: no bodies");
+    impl_ = std::make_unique<Impl>(settings, std::move(runner));
+    std::map<std::string, int> names;
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const auto& b : bodies) {
+        if (!names.emplace(b->name, 0).second)
+            throw std::invalid_argument("scene: two bodies are named '" + b->name + "'; body names must be unique");
+        Piece piece;
+        piece.dynamic = b->kind == BodyKind::dynamic;
+        piece.E = b->E;
+        piece.nu = b->nu;
+        piece.density = b->density;
+        piece.friction = b->friction;
+        piece.restitution = b->restitution;
+        piece.breakable = b->breakable;
+        const SurfaceMesh world_mesh = transformed(b->mesh, b->placement);
+        BodySpec spec;
+        spec.name = b->name;
+        spec.kind = b->kind;
+        spec.mesh = world_mesh;
+        spec.density = b->density;
+        spec.velocity = b->velocity;
+        spec.angular_velocity = b->angular_velocity;
+        spec.friction = b->friction;
+        spec.restitution = b->restitution;
+        spec.collision = b->collision;
+        MassProperties mp;
+        try {
+            mp = mass_properties(world_mesh, b->density);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument("body '" + b->name + "': " + e.what());
+        }
+        if (b->breakable) {
+            // Mass from the level-set volume (ch. 7.2), as for the fragments it will break into.
+            const double mass = b->breakable->volume * b->density;
+            mp.inertia *= mass / mp.mass;
+            mp.principal_moments *= mass / mp.mass;
+            mp.mass = mass;
+            mp.volume = b->breakable->volume;
+            spec.mass = mp;
+        }
+        piece.material_to_body = principal_frame(mp).inverse() * b->placement;
+        piece.contact_mesh = std::make_shared<const SurfaceMesh>(transformed(b->mesh, piece.material_to_body));
+        piece.contact_curvature = triangle_mean_curvature(*piece.contact_mesh);
+        AnimationPiece anim;
+        anim.name = b->name;
+        anim.piece_class = PieceClass::original;
+        anim.volume = mp.volume;
+        anim.dynamic = piece.dynamic;
+        anim.rest_mesh = piece.contact_mesh;
+        anim.first_frame = 0;
+        impl_->add_piece(std::move(piece), spec, std::move(anim));
+        smallest = std::min(smallest, bounding_box(world_mesh).extent().minCoeff());
+    }
+    if (settings.ground) {
+        const Vec3 up = -settings.world.gravity.normalized();
+        if (!up.allFinite()) throw std::invalid_argument("scene: a ground plane needs a non-zero gravity (its normal is -gravity)");
+        impl_->world.add_ground_plane(up, up.dot(settings.ground_point), settings.ground_friction,
+                                      settings.ground_restitution);
+    }
+    const double depth = settings.overlap_tolerance > 0 ? settings.overlap_tolerance : 0.02 * smallest;
+    const auto overlaps = impl_->world.overlaps(depth);
+    if (!overlaps.empty()) {
+        auto name = [&](int id) { return id < 0 ? std::string("the ground") : "body '" + impl_->animation[static_cast<std::size_t>(id)].name + "'"; };
+        throw std::invalid_argument("scene: " + name(overlaps.front().first) + " starts inside " +
+                                    name(overlaps.front().second) + " (deeper than " + format_number(depth) +
+                                    " m); move them apart with 'position'");
+    }
+}
+
+SceneSimulation::~SceneSimulation() = default;
+
+FrameReport SceneSimulation::advance_frame(const std::function<void()>& check_cancelled) {
+    FrameReport report;
+    ++frame_;
+    for (int k = 0; k < steps_per_frame_; ++k) {
+        if (check_cancelled) check_cancelled();
+        impl_->rigid_step(frame_, report);
+    }
+    return report;
+}
+
+double SceneSimulation::time() const { return double(impl_->step_index) * settings_.world.time_step; }
+
+AnimationFrame SceneSimulation::current_frame() const {
+    AnimationFrame f;
+    f.time = frame_ / settings_.frame_rate;
+    std::vector<std::pair<int, PiecePose>> poses;
+    for (const Piece& p : impl_->pieces) {
+        if (!p.alive) continue;
+        const BodyState s = impl_->world.state(p.body);
+        PiecePose pose;
+        pose.position = s.position;
+        pose.rotation = s.rotation.normalized();
+        pose.velocity = s.velocity;
+        pose.angular_velocity = s.angular_velocity;
+        f.poses.emplace_back(p.animation, pose);
+    }
+    return f;
+}
+
+const std::vector<AnimationPiece>& SceneSimulation::pieces() const { return impl_->animation; }
+const std::vector<FractureRunRecord>& SceneSimulation::runs() const { return impl_->runs; }
+std::size_t SceneSimulation::live_pieces() const {
+    std::size_t n = 0;
+    for (const Piece& p : impl_->pieces) n += p.alive ? 1 : 0;
+    return n;
+}
+
+}  // namespace cf::rigid

@@ -1,0 +1,196 @@
+// Rigid-body scenes end to end (thesis ch. 7): the collision loads against hand-computed values, a
+// shipped scene byte-identical for 1 and 2 threads and valid for the Khronos glTF validator, and
+// bad scene inputs rejected with the body and parameter named.
+#include "graph/executor.hpp"
+#include "graph/pipeline.hpp"
+#include "nodes/register_all.hpp"
+#include "nodes/rigid/contact_duration.hpp"
+#include "nodes/rigid/impact_loads.hpp"
+#include "nodes/shape/box.hpp"
+#include "tests/harness/node_harness.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+int run_command(const std::string& cmd, std::string& output) {
+    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+    if (!p) return -1;
+    char buf[4096];
+    output.clear();
+    while (std::size_t n = fread(buf, 1, sizeof buf, p)) output.append(buf, n);
+    const int status = pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Loads and runs a scene given as text; returns the error ("" on success).
+std::string run_scene_text(const std::string& yaml, const std::string& name) {
+    std::vector<cf::graph::Diagnostic> diags;
+    const fs::path file = cf::testing::temp_dir("scene-" + name) / "scene.yaml";
+    { std::ofstream(file) << yaml; }
+    auto plan = cf::graph::load_pipeline_file(file.string(), cf::node_registry(), {}, diags);
+    std::string text;
+    for (const auto& d : diags) text += cf::graph::format(d) + "\n";
+    if (!diags.empty()) return text;
+    cf::graph::RunOptions o;
+    o.output_dir = file.parent_path() / "out";
+    const auto r = cf::graph::execute(plan, o);
+    return r.ok ? std::string() : r.error;
+}
+
+std::string scene_with(const std::string& box_params, const std::string& extra_nodes = "",
+                       const std::string& scene_params = "{time_step: 0.004, frame_rate: 50}",
+                       const std::string& bodies = "box.bodies") {
+    return "nodes:\n"
+           "  weak: {type: material.brittle, params: {E: 1.0e10, nu: 0.2, rho: 1500, tensile_strength: 5.0e4, "
+           "toughness: 2.0e3, compressive_factor: 10}}\n"
+           "  mesh: {type: shape.box, params: {size: [0.2, 0.2, 0.2], subdivisions: 3}}\n"
+           "  box: {type: rigid.body, inputs: {mesh: mesh.mesh, material: weak.material}, params: " + box_params + "}\n" +
+           extra_nodes +
+           "  scene: {type: rigid.scene, inputs: {bodies: " + bodies + "}, params: " + scene_params + "}\n"
+           "  frames:\n"
+           "    type: loop\n"
+           "    params: {max_iterations: 2}\n"
+           "    inputs: {scene: scene.scene}\n"
+           "    body: {step: {type: rigid.frame, inputs: {scene: frames.scene}}}\n"
+           "    next: {scene: step.scene}\n";
+}
+
+}  // namespace
+
+// One contact on a unit-area element: t_c by Hertz (eq. in ch. 7.2), traction J n / (t_c A_e) on the
+// closest element only, the duration capped at the rigid step for a slow (resting) contact.
+TEST(ImpactLoads, TractionOnTheClosestElementIsImpulseOverDurationAndArea) {
+    cf::BoxSpec spec;
+    spec.size = cf::Vec3(1, 1, 1);
+    spec.subdivisions = 1;  // 12 triangles of area 1/2
+    const cf::SurfaceMesh box = cf::make_box(spec);
+    const std::vector<double> flat(box.num_triangles(), 0.0);
+    cf::rigid::ContactBody self{2e10, 0.2, 10.0, 0.0};
+    cf::rigid::BodyContact c;
+    c.point = cf::Vec3(0.2, 0.1, -0.5);  // on the bottom face (z = -0.5)
+    c.direction = cf::Vec3(0, 0, 1);
+    c.impulse = 3.0;
+    c.approach_speed = 2.0;
+    c.partner = cf::rigid::ContactBody{3e10, 0.2, 0.0, 0.0};
+    const auto loads = cf::rigid::impact_loads(box, flat, self, {c}, 1.0);
+    // Hand-computed: E = 1 / (0.96/2e10 + 0.96/3e10) = 1.25e10 Pa, R = max_radius = 1 m, m = 10 kg.
+    const double E = 1 / (0.96 / 2e10 + 0.96 / 3e10);
+    const double tc = 2.87 * std::pow(100.0 / (E * E * 1.0 * 2.0), 0.2);
+    EXPECT_NEAR(loads.contact_duration, tc, 1e-12 * tc);
+    EXPECT_NEAR(loads.force, 3.0 / tc, 1e-9 * 3.0 / tc);
+    int loaded = 0;
+    for (std::size_t t = 0; t < box.num_triangles(); ++t) {
+        if (loads.traction[t].norm() == 0) continue;
+        ++loaded;
+        EXPECT_LT(cf::triangle_centroid(box, t).z(), -0.49);
+        EXPECT_NEAR(loads.traction[t].z(), 3.0 / (tc * 0.5), 1e-9 * 3.0 / (tc * 0.5));
+    }
+    EXPECT_EQ(loaded, 1);
+    // A rigid step shorter than t_c: the impulse was delivered over the step.
+    const auto resting = cf::rigid::impact_loads(box, flat, self, {c}, tc / 4);
+    EXPECT_NEAR(resting.force, 3.0 / (tc / 4), 1e-9 * 12.0 / tc);
+}
+
+// scene_determinism: the shipped falling_objects scene in fast mode writes the same .glb, byte for
+// byte, and the same fracture runs with 1 and 2 threads; the .glb passes the Khronos validator.
+TEST(Scene, FallingObjectsIsIdenticalForOneAndTwoThreadsAndValidGltf) {
+    std::string glb[2], runs[2];
+    for (int threads : {1, 2}) {
+        const fs::path out = cf::testing::temp_dir("falling-objects-" + std::to_string(threads));
+        std::string log;
+        const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + CRACKFLOW_SOURCE_DIR +
+                                       "/pipelines/falling_objects.yaml --fast --threads " + std::to_string(threads) +
+                                       " --out " + out.string(),
+                                   log);
+        ASSERT_EQ(rc, 0) << log;
+        glb[threads - 1] = read_file(out / "scene.glb");
+        // The run listing without its wall-time column.
+        std::istringstream csv(read_file(out / "fracture_runs.csv"));
+        for (std::string line; std::getline(csv, line);) {
+            std::vector<std::string> cols;
+            std::stringstream ls(line);
+            for (std::string col; std::getline(ls, col, ',');) cols.push_back(col);
+            if (cols.size() > 9) cols[9] = "";
+            for (const auto& col : cols) runs[threads - 1] += col + ",";
+            runs[threads - 1] += "\n";
+        }
+        if (threads == 2) {
+            std::string report;
+            const int v = run_command(std::string(CRACKFLOW_NODE) + " " + CRACKFLOW_GLTF_TOOLS_DIR + "/validate_gltf.mjs " +
+                                          (out / "scene.glb").string(),
+                                      report);
+            EXPECT_EQ(v, 0) << "gltf-validator on the scene: " << report;
+        }
+    }
+    ASSERT_GT(glb[0].size(), 1000u);
+    EXPECT_TRUE(glb[0] == glb[1]) << "scene.glb differs between 1 and 2 threads";
+    EXPECT_EQ(runs[0], runs[1]);
+    EXPECT_NE(runs[0].find(",1,\"\","), std::string::npos) << "no fracture run broke a body:\n" << runs[0];
+}
+
+TEST(SceneInputs, BreakableWithoutMaterialIsRejected) {
+    const std::string yaml =
+        "nodes:\n"
+        "  mesh: {type: shape.box, params: {size: [0.2, 0.2, 0.2]}}\n"
+        "  box: {type: rigid.body, inputs: {mesh: mesh.mesh}, params: {density: 1000, breakable: true, r_f: 0.005}}\n"
+        "  scene: {type: rigid.scene, inputs: {bodies: box.bodies}}\n";
+    const std::string e = run_scene_text(yaml, "no-material");
+    EXPECT_NE(e.find("body 'box': parameter 'breakable' needs the input 'material'"), std::string::npos) << e;
+}
+
+TEST(SceneInputs, OutOfRangeParametersNameTheParameter) {
+    for (const auto& [params, scene, what] : std::vector<std::tuple<std::string, std::string, std::string>>{
+             {"{density: -5}", "{}", "density"},
+             {"{force_threshold: -5}", "{}", "force_threshold"},
+             {"{position: [0, 0, 1]}", "{time_step: 0}", "time_step"},
+         }) {
+        const std::string e = run_scene_text(scene_with(params, "", scene), "range-" + what);
+        EXPECT_NE(e.find("'" + what + "'"), std::string::npos) << e;
+    }
+}
+
+TEST(SceneInputs, AFrameOfPartialStepsIsRejected) {
+    const std::string e = run_scene_text(scene_with("{position: [0, 0, 1]}", "", "{time_step: 0.003, frame_rate: 50}"), "partial");
+    EXPECT_NE(e.find("whole number of rigid steps"), std::string::npos) << e;
+}
+
+TEST(SceneInputs, ABodyStartingInsideAnotherIsNamed) {
+    const std::string other =
+        "  other: {type: rigid.body, inputs: {mesh: mesh.mesh, after: box.bodies}, params: {density: 1000, position: [0.05, 0, 1]}}\n";
+    const std::string e = run_scene_text(scene_with("{position: [0, 0, 1]}", other, "{time_step: 0.004, frame_rate: 50}", "other.bodies"),
+                                         "inside");
+    EXPECT_NE(e.find("body 'box' starts inside body 'other'"), std::string::npos) << e;
+}
+
+TEST(SceneInputs, AnOpenMeshIsRejectedNamingTheBody) {
+    const fs::path dir = cf::testing::temp_dir("scene-open-mesh");
+    {
+        std::ofstream obj(dir / "open.obj");
+        obj << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n";  // a tetrahedron missing a face
+    }
+    const std::string yaml =
+        "nodes:\n"
+        "  mesh: {type: import.mesh, params: {path: " + (dir / "open.obj").string() + "}}\n"
+        "  box: {type: rigid.body, inputs: {mesh: mesh.mesh}, params: {density: 1000}}\n"
+        "  scene: {type: rigid.scene, inputs: {bodies: box.bodies}}\n";
+    const std::string e = run_scene_text(yaml, "open");
+    EXPECT_FALSE(e.empty());
+    EXPECT_TRUE(e.find("open") != std::string::npos || e.find("closed") != std::string::npos) << e;
+}
