@@ -31,6 +31,7 @@ void add_levelset_verification_cases(std::vector<VerificationCase>& cases);  // 
 void add_estimate_verification_cases(std::vector<VerificationCase>& cases);  // nodes/estimate: cases 18-22 (ch. 5)
 void add_estimator_pipeline_cases(std::vector<VerificationCase>& cases);  // nodes/estimator_verification.cpp: 19-21
 void add_rigid_verification_cases(std::vector<VerificationCase>& cases);  // nodes/rigid: cases 23-25 (ch. 7)
+void add_scene_verification_cases(std::vector<VerificationCase>& cases);  // nodes/scene_verification.cpp: 26-28
 void add_fracture_verification_cases(std::vector<VerificationCase>& cases);  // nodes/fracture_verification.cpp: case 8
 
 }  // namespace cf

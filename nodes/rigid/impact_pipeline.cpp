@@ -12,7 +12,9 @@ namespace cf::rigid {
 std::shared_ptr<const graph::Plan> load_impact_pipeline(const std::filesystem::path& file,
                                                         const graph::NodeRegistry& registry) {
     std::vector<graph::Diagnostic> diags;
-    auto plan = std::make_shared<graph::Plan>(graph::load_pipeline_file(file.string(), registry, {}, diags));
+    auto plan = std::make_shared<graph::Plan>(
+        file.empty() ? graph::load_pipeline_text(builtin_fracture_pipeline_text(), builtin_fracture_pipeline_name, registry, {}, diags)
+                     : graph::load_pipeline_file(file.string(), registry, {}, diags));
     std::ostringstream problems;
     for (const graph::Diagnostic& d : diags) problems << "\n  " << graph::format(d);
     if (diags.empty()) {
@@ -28,7 +30,8 @@ std::shared_ptr<const graph::Plan> load_impact_pipeline(const std::filesystem::p
                      << results;
     }
     if (!problems.str().empty())
-        throw std::invalid_argument("fracture pipeline " + file.string() + ":" + problems.str());
+        throw std::invalid_argument("fracture pipeline " + (file.empty() ? std::string(builtin_fracture_pipeline_name) : file.string()) +
+                                    ":" + problems.str());
     return plan;
 }
 
@@ -80,12 +83,13 @@ FractureRunner pipeline_runner(const graph::RunOptions& options,
     // The run has a flag of its own (its failure must not cancel the scene) and follows the scene's.
     base.outer_cancel_flag = options.cancel_flag;
     base.cancel_flag = nullptr;
-    return [base, pipeline_of](const ImpactRun& run) -> Fragments {
+    return [base, pipeline_of](const ImpactRun& run) -> ImpactOutcome {
         const std::shared_ptr<const graph::Plan> file_plan = pipeline_of(run);
         const graph::Plan plan = impact_plan(*file_plan, *run.model->settings, run.max_steps);
         graph::RunOptions o = base;
         o.output_dir = base.output_dir / run.output_dir;
-        o.pipeline_dir = std::filesystem::path(plan.file).parent_path();
+        if (!run.model->settings->fracture_pipeline.empty())
+            o.pipeline_dir = std::filesystem::path(plan.file).parent_path();
         o.registry = plan.registry;
         o.pipeline_inputs["impact"] = graph::Value::of(run);
         const graph::ExecutionResult r = graph::execute(plan, o);
@@ -95,7 +99,10 @@ FractureRunner pipeline_runner(const graph::RunOptions& options,
             throw std::runtime_error("fracture run of body '" + run.body + "' at frame " + std::to_string(run.frame) +
                                      " (" + plan.file + "): " + r.error);
         for (const graph::PlanNode& n : plan.nodes)
-            if (!n.is_loop() && n.type->name() == "rigid.fragments") return r.outputs.at(n.name).at("fragments").get<Fragments>();
+            if (!n.is_loop() && n.type->name() == "rigid.fragments") {
+                const auto& out = r.outputs.at(n.name);
+                return ImpactOutcome{out.at("fragments").get<Fragments>(), out.at("state").ptr<propagate::FractureState>()};
+            }
         throw std::logic_error("fracture pipeline without rigid.fragments");
     };
 }

@@ -16,7 +16,11 @@
 
 namespace cf::rigid {
 
-// Loads and checks a fracture pipeline: it must hold exactly one rigid.impact and one rigid.fragments
+// The default fracture pipeline (pipelines/impact/fracture.yaml, compiled in).
+const char* builtin_fracture_pipeline_text();
+constexpr const char* builtin_fracture_pipeline_name = "built-in impact/fracture.yaml";
+
+// Loads and checks a fracture pipeline (an empty `file`: the built-in one): it must hold exactly one rigid.impact and one rigid.fragments
 // node. Throws std::invalid_argument with every problem (file and line) otherwise.
 std::shared_ptr<const graph::Plan> load_impact_pipeline(const std::filesystem::path& file,
                                                         const graph::NodeRegistry& registry);

@@ -81,8 +81,9 @@ graph::NodeType body_node() {
     t.param_real("threshold_fraction", 0.25, "", "breakable: see force_threshold").above(0).at_most(1);
     t.param_real("min_fragment_fraction", 1e-6, "", "breakable: fragments below this fraction of the original volume are "
                  "dropped (counted)").range(0, 0.01);
-    t.param_string("fracture", "impact/fracture.yaml",
-                   "breakable: the fracture pipeline a collision runs (relative to this pipeline's file)");
+    t.param_string("fracture", "",
+                   "breakable: the fracture pipeline a collision runs (relative to this pipeline's file); empty: the "
+                   "built-in one, pipelines/impact/fracture.yaml");
     t.run([](graph::NodeContext& c) {
         auto b = std::make_shared<rigid::BodyDescription>();
         b->name = c.string("name").empty() ? c.node_name() : c.string("name");
@@ -129,7 +130,7 @@ graph::NodeType body_node() {
             fs->method = c.string("method");
             fs->switch_elements = c.integer("switch_elements");
             fs->min_fragment_fraction = c.real("min_fragment_fraction");
-            fs->fracture_pipeline = resolve_pipeline(c, c.string("fracture"));
+            if (!c.string("fracture").empty()) fs->fracture_pipeline = resolve_pipeline(c, c.string("fracture"));
             if (!c.run_options().registry) c.fail("no node registry to load the fracture pipeline with");
             try {
                 rigid::load_impact_pipeline(fs->fracture_pipeline, *c.run_options().registry);  // fail early, not at impact
@@ -297,15 +298,46 @@ graph::NodeType impact_node() {
     return t;
 }
 
+graph::NodeType carried_cracks_node() {
+    graph::NodeType t("rigid.cracks",
+                      "The fracture state a collision's run starts from (ch. 7.3): the incomplete cracks the body "
+                      "carries from earlier runs (those that did not separate it, or that a large fragment kept), "
+                      "else 'start' (no cracks). Its crack sheets go to the first assembly, so old cracks are solved "
+                      "for and grow again (thesis fig. 43).");
+    t.input<propagate::FractureState>("start", "the empty state (fracture.start)");
+    t.output<propagate::FractureState>("state", "the body's cracks, or 'start'");
+    t.output<SurfaceMesh>("cracks", "their BEM crack sheets (empty without cracks)");
+    t.run([](graph::NodeContext& c) {
+        const graph::Value* v = c.pipeline_input("impact");
+        if (!v) c.fail("rigid.cracks belongs to a fracture pipeline that a rigid-body scene runs per collision");
+        const auto& cracks = v->get<rigid::ImpactRun>().model->cracks;
+        if (cracks) {
+            c.count("carried_crack_triangles", double(cracks->cracks.num_triangles()));
+            c.out_shared("state", cracks);
+            c.out("cracks", cracks->cracks);
+        } else {
+            c.count("carried_crack_triangles", 0);
+            c.set_output("state", c.input_value("start"));
+            c.out("cracks", c.in<propagate::FractureState>("start").cracks);
+        }
+    });
+    return t;
+}
+
 graph::NodeType fragments_result_node() {
     graph::NodeType t("rigid.fragments",
                       "The result of a fracture pipeline that a collision runs: its fragments go back to the scene "
                       "(rigid.frame), which turns them into rigid bodies.");
     t.input<Fragments>("fragments", "from segment.fragments");
+    t.input<propagate::FractureState>("state", "the run's final fracture state: its cracks stay in the pieces they did "
+                                               "not separate and grow again in later runs (ch. 7.3)");
     t.output<Fragments>("fragments", "the same, for the scene");
+    t.output<propagate::FractureState>("state", "the same, for the scene");
     t.run([](graph::NodeContext& c) {
         c.count("fragments", double(c.in<Fragments>("fragments").fragments.size()));
+        c.count("crack_triangles", double(c.in<propagate::FractureState>("state").cracks.num_triangles()));
         c.set_output("fragments", c.input_value("fragments"));
+        c.set_output("state", c.input_value("state"));
     });
     return t;
 }
@@ -371,6 +403,7 @@ void register_rigid_nodes(graph::NodeRegistry& r) {
     r.add(scene_node());
     r.add(frame_node());
     r.add(impact_node());
+    r.add(carried_cracks_node());
     r.add(fragments_result_node());
     r.add(export_animation_node());
 }

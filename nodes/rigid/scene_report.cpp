@@ -26,10 +26,12 @@ void write_fracture_runs(const std::filesystem::path& stem, const std::vector<Fr
     json += ".json";
     graph::write_atomically(csv, [&](std::ostream& os) {
         os << std::setprecision(9);
-        os << "frame,body,impulse_Ns,force_N,contact_duration_s,max_steps,bem_triangles,fragments,dropped,seconds,broke,error\n";
+        os << "frame,body,impulse_Ns,force_N,contact_duration_s,max_steps,bem_triangles,fragments,dropped,crack_triangles,carried_triangles,old_crack_triangles_start,old_crack_triangles_end,seconds,broke,error\n";
         for (const FractureRunRecord& r : runs)
             os << r.frame << ',' << r.body << ',' << r.impulse << ',' << r.force << ',' << r.contact_duration << ','
-               << r.max_steps << ',' << r.bem_triangles << ',' << r.fragments << ',' << r.dropped << ',' << r.seconds
+               << r.max_steps << ',' << r.bem_triangles << ',' << r.fragments << ',' << r.dropped << ',' << r.crack_triangles << ','
+               << r.carried_triangles << ',' << r.old_crack_triangles_start << ',' << r.old_crack_triangles_end << ','
+               << r.seconds
                << ',' << (r.broke ? 1 : 0) << ",\"" << csv_text(r.error) << "\"\n";
     });
     graph::JsonWriter w;

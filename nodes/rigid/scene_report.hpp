@@ -1,7 +1,7 @@
 #pragma once
 // The fracture runs of a scene as a table (report of Table 3's quantities per run): frame, body,
 // summed impulse [N s], contact force [N], contact duration [s], BEM step bound, BEM triangles,
-// fragments kept and dropped, seconds, whether it broke. Written atomically.
+// fragments kept and dropped, crack triangles and those carried on as incomplete cracks, seconds, whether it broke. Written atomically.
 #include "nodes/rigid/scene_simulation.hpp"
 
 #include <filesystem>

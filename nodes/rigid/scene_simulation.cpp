@@ -1,6 +1,7 @@
 #include "nodes/rigid/scene_simulation.hpp"
 
 #include "graph/node_context.hpp"
+#include "nodes/propagate/fragment_cracks.hpp"
 #include "nodes/propagate/propagation_law.hpp"
 #include "nodes/rigid/balanced_tractions.hpp"
 #include "nodes/rigid/contact_duration.hpp"
@@ -57,6 +58,21 @@ std::string format_number(double x) {
 
 }  // namespace
 
+FragmentBody fragment_body(const SurfaceMesh& material_mesh, double volume, double density,
+                           const Eigen::Isometry3d& material_to_world, const RigidMotion& parent) {
+    FragmentBody b;
+    b.mass = mass_properties(transformed(material_mesh, material_to_world), density);
+    // Mass from the level-set volume (thesis ch. 7.2), centre and inertia from the mesh.
+    const double mass = volume * density;
+    b.mass.inertia *= mass / b.mass.mass;
+    b.mass.principal_moments *= mass / b.mass.mass;
+    b.mass.mass = mass;
+    b.mass.volume = volume;
+    b.material_to_body = principal_frame(b.mass).inverse() * material_to_world;
+    b.motion = fragment_motion(parent, b.mass.centre);
+    return b;
+}
+
 SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles, double offset_voxels) {
     // Fragments carry sharp, thin wedges where cracks meet the surface; simplified straight from r_f
     // they fold into self-intersections. Remesh from a grid about a quarter of the target element
@@ -70,12 +86,18 @@ SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles,
     RemeshOptions o;
     o.target_triangles = target_triangles;
     o.offset_voxels = offset_voxels;
+    // The remesh checks closedness and self-intersections; a mesh that still encloses no positive
+    // volume (a sliver folded inside out) would make the BEM system indefinite: refuse it too.
+    auto checked = [](SurfaceMesh m) {
+        if (!(signed_volume(m) > 0)) throw std::runtime_error("remeshed fragment encloses no positive volume");
+        return m;
+    };
     try {
-        return remesh(coarse, o).mesh;
+        return checked(remesh(coarse, o).mesh);
     } catch (const std::exception&) {
         if (offset_voxels == 0) throw;
         o.offset_voxels = 0;  // the outward offset is what folds thin wedges most often
-        return remesh(coarse, o).mesh;
+        return checked(remesh(coarse, o).mesh);
     }
 }
 
@@ -226,7 +248,7 @@ struct SceneSimulation::Impl {
         int piece = -1;
         ImpactLoads loads;
         ImpactRun run;
-        Fragments fragments;
+        ImpactOutcome outcome;
         double seconds = 0;
         std::string error;
     };
@@ -258,7 +280,9 @@ struct SceneSimulation::Impl {
     }
 
     // Fragment k of piece `parent` as a new piece (ch. 7.3), placed by the parent's state `s`.
-    void add_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame) {
+    // Returns the incomplete-crack triangles it carries (ch. 7.3).
+    std::size_t add_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame,
+                             const std::shared_ptr<const propagate::FractureState>& cracks) {
         Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
         const BreakableModel& model = *parent.breakable;
         const std::shared_ptr<const FractureSettings> fs = model.settings;
@@ -269,16 +293,13 @@ struct SceneSimulation::Impl {
         else if (f.volume <= 0.005 * V0) cls = PieceClass::hull;
         else if (f.volume <= 0.02 * V0) cls = PieceClass::mesh;
 
+        std::size_t carried = 0;
         const Eigen::Isometry3d material_to_world = body_to_world(s) * parent.material_to_body;
         const SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
+        const FragmentBody fb = fragment_body(material_mesh, f.volume, model.settings->material.rho, material_to_world,
+                                              RigidMotion{s.position, s.velocity, s.angular_velocity});
+        const MassProperties& mp = fb.mass;
         const SurfaceMesh world_mesh = transformed(material_mesh, material_to_world);
-        MassProperties mp = mass_properties(world_mesh, model.settings->material.rho);
-        // Mass from the level-set volume (thesis ch. 7.2), centre and inertia from the mesh.
-        const double mass = f.volume * model.settings->material.rho;
-        mp.inertia *= mass / mp.mass;
-        mp.principal_moments *= mass / mp.mass;
-        mp.mass = mass;
-        mp.volume = f.volume;
 
         Piece piece;
         piece.dynamic = true;
@@ -289,8 +310,7 @@ struct SceneSimulation::Impl {
         piece.density = parent.density;
         piece.friction = parent.friction;
         piece.restitution = parent.restitution;
-        const Eigen::Isometry3d world_to_body = principal_frame(mp).inverse();
-        piece.material_to_body = world_to_body * material_to_world;
+        piece.material_to_body = fb.material_to_body;
 
         BodySpec spec;
         spec.name = parent_anim.name + "." + std::to_string(parent.children++);
@@ -299,14 +319,22 @@ struct SceneSimulation::Impl {
         spec.mass = mp;
         spec.friction = parent.friction;
         spec.restitution = parent.restitution;
-        const RigidMotion motion = fragment_motion(RigidMotion{s.position, s.velocity, s.angular_velocity}, mp.centre);
-        spec.velocity = motion.velocity;
-        spec.angular_velocity = motion.angular_velocity;
+        spec.velocity = fb.motion.velocity;
+        spec.angular_velocity = fb.motion.angular_velocity;
 
         if (cls == PieceClass::large || cls == PieceClass::breakable) {
             try {
-                auto m = std::make_shared<const BreakableModel>(make_breakable_model(
-                    fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr));
+                BreakableModel bm = make_breakable_model(fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr);
+                if (cracks && cracks->cracks.num_triangles() > 0) {
+                    propagate::FragmentCracks fc = propagate::restrict_to_fragment(*cracks, f.grid, *bm.bem_mesh);
+                    if (fc.state.cracks.num_triangles() > 0) {
+                        carried = fc.state.cracks.num_triangles();
+                        // The fragment's object without the slits of the cracks it keeps (they grow from it).
+                        bm.object = fill_crack_slits(f.grid, model.object, fc.state.grids.cracks);
+                        bm.cracks = std::make_shared<const propagate::FractureState>(std::move(fc.state));
+                    }
+                }
+                auto m = std::make_shared<const BreakableModel>(std::move(bm));
                 piece.breakable = m;
                 spec.collision = CollisionShape::mesh;
                 spec.collision_mesh = transformed(*m->bem_mesh, material_to_world);
@@ -338,6 +366,7 @@ struct SceneSimulation::Impl {
         anim.rest_mesh = std::make_shared<const SurfaceMesh>(transformed(material_mesh, piece.material_to_body));
         anim.first_frame = frame;
         add_piece(std::move(piece), spec, std::move(anim));
+        return carried;
     }
 
     // One rigid step; fracture runs after it unless `repeat` (the repeated step of ch. 7.3).
@@ -358,7 +387,7 @@ struct SceneSimulation::Impl {
             // A run that fails (e.g. a fragment's BEM mesh too degenerate to solve on) leaves the body
             // whole; the failure is recorded with the run, and the scene goes on. Cancellation stops it.
             try {
-                candidates[k].fragments = runner(candidates[k].run);
+                candidates[k].outcome = runner(candidates[k].run);
             } catch (const graph_cancelled&) {
                 throw;
             } catch (const std::exception& e) {
@@ -370,6 +399,8 @@ struct SceneSimulation::Impl {
         report.fracture_runs += static_cast<int>(candidates.size());
 
         std::vector<std::pair<int, std::vector<const Fragment*>>> broken;
+        std::vector<std::size_t> run_of_break;  // index into runs per entry of broken
+        std::vector<std::shared_ptr<const propagate::FractureState>> state_of_break;
         for (Candidate& c : candidates) {
             const Piece& p = pieces[static_cast<std::size_t>(c.piece)];
             FractureRunRecord r;
@@ -383,20 +414,37 @@ struct SceneSimulation::Impl {
             r.seconds = c.seconds;
             r.error = c.error;
             std::vector<const Fragment*> kept;
-            for (const Fragment& f : c.fragments.fragments) {
+            for (const Fragment& f : c.outcome.fragments.fragments) {
                 if (f.volume < p.breakable->settings->min_fragment_fraction * p.breakable->original_volume) ++r.dropped;
                 else kept.push_back(&f);
             }
             r.fragments = static_cast<int>(kept.size());
             r.broke = kept.size() > 1;
-            runs.push_back(r);
+            const auto& state = c.outcome.state;
+            r.crack_triangles = state ? state->cracks.num_triangles() : 0;
+            if (const auto& old = p.breakable->cracks; old && old->cracks.num_triangles() > 0) {
+                r.old_crack_triangles_start = old->cracks.num_triangles();
+                if (state)
+                    for (std::size_t t = 0; t < state->cracks.num_triangles(); ++t)
+                        r.old_crack_triangles_end += state->cracks.region_of(t) < old->num_cracks() ? 1 : 0;
+            }
             if (r.broke) {
                 broken.emplace_back(c.piece, std::move(kept));
+                run_of_break.push_back(runs.size());
+                state_of_break.push_back(state);
             } else {
                 Piece& q = pieces[static_cast<std::size_t>(c.piece)];
                 q.withstood_impulse = std::max(q.withstood_impulse, c.loads.impulse);
                 q.withstood_force = std::max(q.withstood_force, c.loads.force);
+                // Cracks that did not separate the body stay in it and grow again later (ch. 7.3).
+                if (state && state->cracks.num_triangles() > 0 && r.error.empty()) {
+                    BreakableModel m = *q.breakable;
+                    m.cracks = state;
+                    q.breakable = std::make_shared<const BreakableModel>(std::move(m));
+                    r.carried_triangles = state->cracks.num_triangles();
+                }
             }
+            runs.push_back(r);
         }
         if (broken.empty()) {
             ++step_index;
@@ -406,12 +454,16 @@ struct SceneSimulation::Impl {
         // Making the fragments' bodies (meshes, remeshing, mass properties) counts as fracture time.
         const auto t_fragments = Clock::now();
         world.restore(before);
-        for (auto& [id, fragments] : broken) {
+        for (std::size_t b = 0; b < broken.size(); ++b) {
+            const int id = broken[b].first;
+            const std::vector<const Fragment*>& fragments = broken[b].second;
             Piece& parent = pieces[static_cast<std::size_t>(id)];
             parent.alive = false;
             world.remove_body(id);
             animation[static_cast<std::size_t>(parent.animation)].last_frame = frame - 1;
-            for (const Fragment* f : fragments) add_fragment(id, before[static_cast<std::size_t>(id)], *f, frame);
+            for (const Fragment* f : fragments)
+                runs[run_of_break[b]].carried_triangles +=
+                    add_fragment(id, before[static_cast<std::size_t>(id)], *f, frame, state_of_break[b]);
             report.breaks += 1;
             report.new_pieces += static_cast<int>(fragments.size());
         }

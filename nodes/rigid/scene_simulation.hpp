@@ -16,7 +16,9 @@
 #include "nodes/domain/material.hpp"
 #include "nodes/fields/scalar_field.hpp"
 #include "nodes/levelset/level_set.hpp"
+#include "nodes/propagate/fracture_state.hpp"
 #include "nodes/rigid/animation.hpp"
+#include "nodes/rigid/fragment_motion.hpp"
 #include "nodes/rigid/impact_loads.hpp"
 #include "nodes/rigid/rigid_world.hpp"
 #include "nodes/segment/fragments.hpp"
@@ -55,7 +57,22 @@ struct BreakableModel {
     std::vector<double> curvature;          // |H| per BEM triangle [1/m] (Hertz radius)
     double volume = 0;                      // level-set volume [m^3]
     double original_volume = 0;             // of the authored body it descends from [m^3]
+    // Incomplete cracks from earlier runs (ch. 7.3, fig. 43): the next run starts from them, so old
+    // cracks grow again. Null: the body has none.
+    std::shared_ptr<const propagate::FractureState> cracks;
 };
+
+// A fragment as a rigid body (ch. 7.3): `material_mesh` is its surface in the parent's material frame,
+// `volume` its level-set volume [m^3]. Mass = volume * density; centre of mass and inertia exactly
+// from the mesh (scaled to that mass); body frame at the centre of mass on the principal axes; the
+// motion is the parent's rigid velocity field at the fragment's centre (fragment_motion).
+struct FragmentBody {
+    MassProperties mass;                    // world axes
+    Eigen::Isometry3d material_to_body = Eigen::Isometry3d::Identity();
+    RigidMotion motion;
+};
+FragmentBody fragment_body(const SurfaceMesh& material_mesh, double volume, double density,
+                           const Eigen::Isometry3d& material_to_world, const RigidMotion& parent);
 
 // A closed surface of about `target_triangles` for `object` (BEM or collision mesh): remeshed
 // (simplify.remesh's algorithm) from a grid about a quarter of the target edge length, offset
@@ -103,7 +120,12 @@ struct ImpactRun {
     long long max_steps = 1;         // BEM time steps whose simulated time fits min(dt, t_c)
     std::filesystem::path output_dir;  // where the run writes (relative to the scene's output directory)
 };
-using FractureRunner = std::function<Fragments(const ImpactRun&)>;
+// What a fracture run returns: the fragments and the run's final fracture state (its cracks).
+struct ImpactOutcome {
+    Fragments fragments;
+    std::shared_ptr<const propagate::FractureState> state;  // may be null (a pipeline without one)
+};
+using FractureRunner = std::function<ImpactOutcome(const ImpactRun&)>;
 
 struct FractureRunRecord {
     int frame = 0;
@@ -113,6 +135,11 @@ struct FractureRunRecord {
     long long max_steps = 0;
     std::size_t bem_triangles = 0;
     int fragments = 0, dropped = 0;  // kept fragments (1: did not break), specks dropped
+    std::size_t crack_triangles = 0;  // in the run's final state (all cracks, complete or not)
+    std::size_t carried_triangles = 0;  // incomplete-crack triangles carried into the pieces it left
+    // Incomplete cracks the run started from (carried in from earlier runs): their triangles at the
+    // start and at the end of the run (growth of old cracks, ch. 7.3).
+    std::size_t old_crack_triangles_start = 0, old_crack_triangles_end = 0;
     double seconds = 0;              // wall time of the run
     bool broke = false;
     std::string error;               // non-empty: the run failed and the body stayed whole

@@ -47,6 +47,12 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options =
 // negative or non-finite min_volume.
 std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume = nullptr);
 
+// A fragment's object for a later fracture run (ch. 7.3): segmentation cut every crack of the run
+// into the fragment as a thin slit; the cracks it keeps (incomplete, to grow again) must not read as
+// "outside" ahead of their own fronts. Fills the slits of `cracks` where the fragment surrounds them
+// (within 2 r_f of its material) and the parent object is inside: min(Phi_f, max(Phi_c, Phi_f - 2 r_f)).
+LevelSet fill_crack_slits(const LevelSet& fragment, const LevelSet& parent, const std::vector<LevelSet>& cracks);
+
 // d = round(1 + s / r_f): the ring of outside voxels copied around an over-segmented fragment.
 int over_segmentation_ring(double s, double r_f);
 

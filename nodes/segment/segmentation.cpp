@@ -53,6 +53,32 @@ LevelSet broken_object(const LevelSet& object, const CrackLevelSets& cracks) {
     return wrap_grid(out, object.voxel_size, object.half_width);
 }
 
+LevelSet fill_crack_slits(const LevelSet& fragment, const LevelSet& parent, const std::vector<LevelSet>& cracks) {
+    ensure_openvdb_initialized();
+    openvdb::FloatGrid::Ptr out = grid_of(fragment).deepCopy();
+    const float bg = static_cast<float>(fragment.background());
+    const float depth = static_cast<float>(2 * fragment.voxel_size);
+    auto acc = out->getAccessor();
+    const auto fine = grid_of(fragment).getConstAccessor();
+    const auto whole = grid_of(parent).getConstAccessor();
+    for (const LevelSet& c : cracks) {
+        if (c.empty()) continue;
+        if (std::abs(c.voxel_size - fragment.voxel_size) > 1e-9 * fragment.voxel_size)
+            throw std::invalid_argument("fill_crack_slits: a crack grid's voxel size differs from the fragment's");
+        // Phi' = min(Phi_f, max(Phi_c, Phi_f - 2 r_f)) inside the parent: the crack's thickened volume
+        // joins the fragment only where the fragment surrounds it (within 2 r_f of its material).
+        for (auto it = grid_of(c).cbeginValueOn(); it; ++it) {
+            const Coord ijk = it.getCoord();
+            const float f = fine.getValue(ijk);
+            if (f >= bg || whole.getValue(ijk) >= 0) continue;
+            const float filled = std::min(f, std::max(*it, f - depth));
+            if (filled < f) acc.setValue(ijk, filled);
+        }
+    }
+    out->setName(grid_of(fragment).getName());
+    return wrap_grid(out, fragment.voxel_size, fragment.half_width);
+}
+
 int over_segmentation_ring(double s, double r_f) { return int(std::lround(1 + s / r_f)); }
 
 namespace {

@@ -1,0 +1,424 @@
+#include "nodes/propagate/fragment_cracks.hpp"
+
+#include "nodes/bem/element_geometry.hpp"
+#include "nodes/bem/surface_intersection.hpp"
+#include "nodes/domain/mesh_topology.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+namespace cf::propagate {
+
+namespace {
+
+using Edge = std::pair<int, int>;
+Edge undirected(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+// ---- Distances between triangles (the surface test). Brute force over the surface: BEM meshes
+// are coarse, and each crack triangle is tested once.
+
+// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Vec3 bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+    const Vec3 cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+    const double den = 1 / (va + vb + vc);
+    return a + ab * (vb * den) + ac * (vc * den);
+}
+
+// Distance between segments [p1, q1] and [p2, q2] (Ericson 5.1.9).
+double segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {
+    const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+    const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+    double s = 0, t = 0;
+    if (a <= 0 && e <= 0) return r.norm();
+    if (a <= 0) {
+        t = std::clamp(f / e, 0.0, 1.0);
+    } else {
+        const double c = d1.dot(r);
+        if (e <= 0) {
+            s = std::clamp(-c / a, 0.0, 1.0);
+        } else {
+            const double b = d1.dot(d2), den = a * e - b * b;
+            s = den > 0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
+            t = (b * s + f) / e;
+            if (t < 0) {
+                t = 0;
+                s = std::clamp(-c / a, 0.0, 1.0);
+            } else if (t > 1) {
+                t = 1;
+                s = std::clamp((b - c) / a, 0.0, 1.0);
+            }
+        }
+    }
+    return ((p1 + s * d1) - (p2 + t * d2)).norm();
+}
+
+// Distance between two closed triangles: 0 when they meet (the assembly's own test), else the
+// smallest vertex-triangle or edge-edge distance.
+double triangle_distance(const bem::ElementGeometry& A, const bem::ElementGeometry& B) {
+    if (bem::triangles_intersect(A, B)) return 0;
+    double d = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        d = std::min(d, (A.p[k] - closest_on_triangle(A.p[k], B.p[0], B.p[1], B.p[2])).norm());
+        d = std::min(d, (B.p[k] - closest_on_triangle(B.p[k], A.p[0], A.p[1], A.p[2])).norm());
+        for (int l = 0; l < 3; ++l) d = std::min(d, segment_distance(A.p[k], A.p[(k + 1) % 3], B.p[l], B.p[(l + 1) % 3]));
+    }
+    return d;
+}
+
+// Generalised winding number of the closed surface at p (Van Oosterom and Strackee solid angles).
+double winding_number(const std::vector<bem::ElementGeometry>& surface, const Vec3& p) {
+    double w = 0;
+    for (const bem::ElementGeometry& t : surface) {
+        const Vec3 a = t.p[0] - p, b = t.p[1] - p, c = t.p[2] - p;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        const double num = a.dot(b.cross(c));
+        const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+        w += 2 * std::atan2(num, den);
+    }
+    return w / (4 * M_PI);
+}
+
+// Whether the crack triangle lies inside the surface and at least `clearance` from every
+// surface triangle. Triangles whose bounding spheres are further apart are skipped.
+bool clear_inside(const bem::ElementGeometry& crack, const std::vector<bem::ElementGeometry>& surface, double clearance) {
+    for (const bem::ElementGeometry& s : surface) {
+        if ((crack.centroid - s.centroid).norm() - crack.diameter - s.diameter > clearance) continue;
+        if (triangle_distance(crack, s) < clearance) return false;
+    }
+    return winding_number(surface, crack.centroid) > 0.5;
+}
+
+// ---- Inside the fragment. The fragment's level set is the broken object (eq. 6.1) restricted to
+// the fragment, so every crack of the parent run is cut into it: on an incomplete crack's own
+// sheet it is about +sqrt(3) r_f / 2 (a slit), not negative. A sheet point p therefore counts as
+// `depth` inside when on each side of the sheet, a few voxels off (past the slit's half-thickness
+// sqrt(3)/2 r_f, and past up to ~2 r_f between the coarse sheet and the fine recorded surface),
+// the fragment is at least `depth` deep. A crack that separated the fragment from another has
+// material of this fragment on one side only and fails, as it must: it is now ordinary surface.
+constexpr double kSideOffsets[] = {2, 3, 4};  // [r_f]
+
+bool inside_on_both_sides(const LevelSet& fragment, const Vec3& p, const Vec3& n, double depth, double r_f) {
+    for (const double side : {1.0, -1.0}) {
+        bool found = false;
+        for (const double h : kSideOffsets)
+            if (sample(fragment, p + side * h * r_f * n) <= -depth) {
+                found = true;
+                break;
+            }
+        if (!found) return false;
+    }
+    return true;
+}
+
+struct Admission {
+    bool strict = false;  // the mask: r_f deep in the fragment and clear of the surface
+    bool ring = false;    // inside the fragment at all and clear of the surface (1-ring additions)
+};
+
+std::vector<Admission> admit_triangles(const SurfaceMesh& cracks, const LevelSet& fragment,
+                                       const std::vector<bem::ElementGeometry>& surface, double r_f, double clearance) {
+    std::vector<Admission> out(cracks.num_triangles());
+    tbb::parallel_for(std::size_t(0), cracks.num_triangles(), [&](std::size_t t) {
+        const bem::ElementGeometry g = bem::element_geometry(cracks, t);
+        bool deep = true, inside = true;
+        for (const Vec3& p : {g.p[0], g.p[1], g.p[2], g.centroid}) {
+            deep = deep && inside_on_both_sides(fragment, p, g.normal, r_f, r_f);
+            inside = inside && inside_on_both_sides(fragment, p, g.normal, 0, r_f);
+        }
+        if (!inside || !clear_inside(g, surface, clearance)) return;
+        out[t].ring = true;
+        out[t].strict = deep;
+    });
+    return out;
+}
+
+// ---- The kept sheet as a manifold with boundary (ch. 7.3). Edge multiplicities and per-vertex
+// counts of boundary edges are kept up to date as triangles come and go.
+class KeptSheet {
+public:
+    explicit KeptSheet(const SurfaceMesh& m)
+        : m_(m), kept_(m.num_triangles(), 0), banned_(m.num_triangles(), 0), boundary_(m.num_vertices(), 0),
+          tried_(m.num_vertices(), 0), ring_of_(m.num_vertices()) {
+        for (std::size_t t = 0; t < m.num_triangles(); ++t)
+            for (int v : m.triangles[t]) ring_of_[v].push_back(static_cast<int>(t));
+    }
+
+    void add(std::size_t t) {
+        kept_[t] = 1;
+        for (int k = 0; k < 3; ++k) bump(m_.triangles[t][k], m_.triangles[t][(k + 1) % 3], +1);
+    }
+    // Removed for good: a triangle dropped once is never added back (so the closure terminates).
+    void ban(std::size_t t) {
+        if (kept_[t])
+            for (int k = 0; k < 3; ++k) bump(m_.triangles[t][k], m_.triangles[t][(k + 1) % 3], -1);
+        kept_[t] = 0;
+        banned_[t] = 1;
+    }
+
+    // Pinched front nodes (more than two boundary edges) first get the admissible triangles of
+    // their 1-ring; a node still pinched after that loses all its triangles. Then the triangles
+    // whose three nodes are front nodes go; repeated until nothing changes.
+    void close(const std::vector<Admission>& admitted) {
+        for (;;) {
+            while (!pinched_.empty()) {
+                const int v = *pinched_.begin();
+                bool added = false;
+                if (!tried_[v]) {
+                    tried_[v] = 1;
+                    for (int t : ring_of_[v])
+                        if (!kept_[t] && !banned_[t] && admitted[t].ring) {
+                            add(t);
+                            added = true;
+                        }
+                }
+                if (!added)
+                    for (int t : ring_of_[v])
+                        if (kept_[t]) ban(t);
+            }
+            std::vector<std::size_t> dead;
+            for (std::size_t t = 0; t < kept_.size(); ++t) {
+                const Tri& tri = m_.triangles[t];
+                if (kept_[t] && boundary_[tri[0]] > 0 && boundary_[tri[1]] > 0 && boundary_[tri[2]] > 0) dead.push_back(t);
+            }
+            if (dead.empty()) return;
+            for (std::size_t t : dead) ban(t);
+        }
+    }
+
+    const std::vector<char>& kept() const { return kept_; }
+
+private:
+    void bump(int a, int b, int d) {
+        int& c = count_[undirected(a, b)];
+        const int before = c;
+        c += d;
+        if (c > 2)
+            throw std::invalid_argument("parent crack sheets: edge " + std::to_string(a) + "-" + std::to_string(b) +
+                                        " belongs to more than two triangles (non-manifold crack mesh)");
+        const int delta = (c == 1) - (before == 1);
+        if (delta == 0) return;
+        for (int v : {a, b}) {
+            boundary_[v] += delta;
+            if (boundary_[v] > 2) pinched_.insert(v);
+            else pinched_.erase(v);
+        }
+    }
+
+    const SurfaceMesh& m_;
+    std::vector<char> kept_, banned_;
+    std::vector<int> boundary_;
+    std::vector<char> tried_;
+    std::vector<std::vector<int>> ring_of_;
+    std::map<Edge, int> count_;
+    std::set<int> pinched_;
+};
+
+// ---- Checks of the parent state, so a mismatch is reported instead of read out of bounds.
+void check_parent(const FractureState& p) {
+    const SurfaceMesh& c = p.cracks;
+    if (!c.region.empty() && c.region.size() != c.num_triangles())
+        throw std::invalid_argument("parent fracture state: " + std::to_string(c.region.size()) + " region ids for " +
+                                    std::to_string(c.num_triangles()) + " crack triangles");
+    for (std::size_t t = 0; t < c.num_triangles(); ++t) {
+        for (int v : c.triangles[t])
+            if (v < 0 || static_cast<std::size_t>(v) >= c.num_vertices())
+                throw std::invalid_argument("parent fracture state: crack triangle " + std::to_string(t) +
+                                            " names vertex " + std::to_string(v) + " of " + std::to_string(c.num_vertices()));
+        if (c.region_of(t) < 0 || c.region_of(t) >= p.num_cracks())
+            throw std::invalid_argument("parent fracture state: crack triangle " + std::to_string(t) + " is in crack " +
+                                        std::to_string(c.region_of(t)) + " but the state has " +
+                                        std::to_string(p.num_cracks()) + " crack grids");
+    }
+    for (std::size_t f = 0; f < p.fronts.size(); ++f) {
+        const FrontState& fs = p.fronts[f];
+        for (int v : fs.front.nodes)
+            if (v < 0 || static_cast<std::size_t>(v) >= c.num_vertices())
+                throw std::invalid_argument("parent fracture state: front " + std::to_string(f) + " names vertex " +
+                                            std::to_string(v) + " of " + std::to_string(c.num_vertices()));
+        const std::size_t edges = fs.front.num_edges(), n = static_cast<std::size_t>(std::max(fs.markers.per_edge, 1));
+        const std::size_t expected = fs.front.closed ? edges * n : edges * n + 1;
+        if (!fs.fresh && fs.markers.markers.size() != expected)
+            throw std::invalid_argument("parent fracture state: front " + std::to_string(f) + " has " +
+                                        std::to_string(fs.markers.markers.size()) + " markers for " + std::to_string(edges) +
+                                        " edges of " + std::to_string(n) + " (expected " + std::to_string(expected) + ")");
+    }
+}
+
+// A stopped or fresh marker on the straight front edge a -> b: the frame of the sheet there
+// (n1 the triangle normal, n2 = n3 x n1 forward, ch. 4.5.2), no SIF history.
+MarkerState edge_marker(const Vec3& a, const Vec3& b, const Vec3& normal, double s, bool active) {
+    MarkerState m;
+    m.position = a + s * (b - a);
+    const FrontFrame f = orthonormalised(normal, b - a);
+    m.n1 = f.n1;
+    m.n2 = f.n2;
+    m.active = active;
+    return m;
+}
+
+}  // namespace
+
+double fragment_crack_clearance(double r_c, double r_f, const FragmentCrackSettings& settings) {
+    return settings.clearance >= 0 ? settings.clearance : std::max(r_f, 0.05 * r_c);
+}
+
+FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet& fragment, const SurfaceMesh& surface,
+                                    const FragmentCrackSettings& settings) {
+    FragmentCracks out;
+    out.state = start_fracture_state(parent.r_c, parent.r_f, parent.grids.half_width, surface.num_triangles());
+    const double r_f = parent.r_f;
+    check_parent(parent);
+    if (parent.cracks.num_triangles() == 0) return out;
+    if (fragment.empty())
+        throw std::invalid_argument("fragment level set is empty: pass the fragment's grid from segment.fragments");
+    if (!(std::abs(fragment.voxel_size - r_f) <= 1e-9 * r_f))
+        throw std::invalid_argument("fragment level set has voxel size " + std::to_string(fragment.voxel_size) +
+                                    " m but the parent's cracks were recorded at r_f = " + std::to_string(r_f) +
+                                    " m: segment the parent's broken object, do not resample it");
+    const MeshTopologyReport topo = check_topology(surface);
+    if (!topo.is_closed_manifold() || !(signed_volume(surface) > 0))
+        throw std::invalid_argument("fragment surface must be a closed, outward-oriented BEM mesh: " + topo.describe() +
+                                    (signed_volume(surface) > 0 ? "" : ", enclosed volume not positive (inward?)"));
+    const double clearance = fragment_crack_clearance(parent.r_c, r_f, settings);
+    if (!(clearance >= 0) || !std::isfinite(clearance))
+        throw std::invalid_argument("fragment crack clearance must be a finite distance >= 0 m, got " +
+                                    std::to_string(clearance));
+
+    // 1. The mask, then the manifold closure.
+    const SurfaceMesh& pc = parent.cracks;
+    const std::vector<bem::ElementGeometry> surf = bem::element_geometries(surface, "fragment surface");
+    const std::vector<Admission> admitted = admit_triangles(pc, fragment, surf, r_f, clearance);
+    KeptSheet sheet(pc);
+    for (std::size_t t = 0; t < pc.num_triangles(); ++t)
+        if (admitted[t].strict) sheet.add(t);
+    sheet.close(admitted);
+    const std::vector<char>& kept = sheet.kept();
+
+    // 2. Renumbering: vertices and cracks in the parent's order.
+    std::vector<int> new_vertex(pc.num_vertices(), -1), new_region(parent.num_cracks(), -1);
+    for (std::size_t t = 0; t < pc.num_triangles(); ++t) {
+        if (!kept[t]) continue;
+        for (int v : pc.triangles[t]) new_vertex[v] = 0;
+        new_region[pc.region_of(t)] = 0;
+    }
+    SurfaceMesh& cracks = out.state.cracks;
+    std::vector<int> old_vertex;
+    for (std::size_t v = 0; v < pc.num_vertices(); ++v)
+        if (new_vertex[v] == 0) {
+            new_vertex[v] = static_cast<int>(old_vertex.size());
+            old_vertex.push_back(static_cast<int>(v));
+            cracks.vertices.push_back(pc.vertices[v]);
+        }
+    for (int r = 0; r < parent.num_cracks(); ++r)
+        if (new_region[r] == 0) {
+            new_region[r] = static_cast<int>(out.state.grids.cracks.size());
+            out.state.grids.cracks.push_back(parent.grids.cracks[r]);
+            cracks.region_names.push_back(pc.region_name(r));
+        }
+    for (std::size_t t = 0; t < pc.num_triangles(); ++t) {
+        if (!kept[t]) {
+            ++out.dropped_triangles;
+            continue;
+        }
+        const Tri& o = pc.triangles[t];
+        cracks.triangles.push_back({new_vertex[o[0]], new_vertex[o[1]], new_vertex[o[2]]});
+        cracks.region.push_back(new_region[pc.region_of(t)]);
+        ++out.kept_triangles;
+        if (!admitted[t].strict) ++out.ring_triangles;
+    }
+    if (cracks.num_triangles() == 0) return out;  // no incomplete crack: start_fracture_state's empty state
+    out.state.grids.voxel_size = parent.grids.voxel_size;
+
+    // 3. Fronts: the boundary loops of the kept sheet. Where a loop is an old front edge for edge,
+    // the old front (markers, SIFs, freshness) carries over; otherwise old edges keep their markers
+    // and edges where the fragment cut the crack get stopped markers (they meet its surface).
+    std::map<Edge, std::pair<int, int>> old_edge;  // directed parent edge -> (front, edge index)
+    for (std::size_t f = 0; f < parent.fronts.size(); ++f) {
+        const CrackFront& fr = parent.fronts[f].front;
+        for (std::size_t i = 0; i < fr.num_edges(); ++i)
+            old_edge[{fr.nodes[i], fr.nodes[(i + 1) % fr.nodes.size()]}] = {static_cast<int>(f), static_cast<int>(i)};
+    }
+    std::map<Edge, int> edge_triangle;  // directed new edge -> new triangle
+    for (std::size_t t = 0; t < cracks.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k)
+            edge_triangle[{cracks.triangles[t][k], cracks.triangles[t][(k + 1) % 3]}] = static_cast<int>(t);
+    const int n = markers_per_edge(parent.r_c, r_f);
+    std::vector<std::pair<std::pair<int, int>, FrontState>> fronts;  // ((region, first old front), state)
+    for (CrackFront& loop : extract_fronts(cracks)) {
+        const std::size_t N = loop.nodes.size();
+        std::vector<std::pair<int, int>> hit(N, {-1, -1});
+        int first_old = static_cast<int>(parent.fronts.size());
+        bool same = true;
+        for (std::size_t i = 0; i < N; ++i) {
+            const auto it = old_edge.find({old_vertex[loop.nodes[i]], old_vertex[loop.nodes[(i + 1) % N]]});
+            if (it != old_edge.end()) {
+                hit[i] = it->second;
+                first_old = std::min(first_old, it->second.first);
+            }
+            same = same && hit[i].first >= 0 && hit[i].first == hit[0].first;
+        }
+        same = same && parent.fronts[hit[0].first].front.closed && parent.fronts[hit[0].first].front.num_edges() == N;
+        FrontState fs;
+        if (same) {
+            fs = parent.fronts[hit[0].first];  // unchanged: the whole front state, in its own node order
+            for (int& v : fs.front.nodes) v = new_vertex[v];
+            fs.front.region = loop.region;
+        } else {
+            fs.front = std::move(loop);
+            fs.fresh = false;
+            fs.markers.closed = true;
+            fs.markers.per_edge = n;
+            for (std::size_t i = 0; i < N; ++i) {
+                const int a = fs.front.nodes[i], b = fs.front.nodes[(i + 1) % N];
+                const auto [f, e] = hit[i];
+                const FrontState* old = f >= 0 ? &parent.fronts[f] : nullptr;
+                if (old && !old->fresh) {
+                    if (old->markers.per_edge != n)
+                        throw std::invalid_argument("parent fracture state: front " + std::to_string(f) + " has " +
+                                                    std::to_string(old->markers.per_edge) + " markers per edge, but r_c / r_f gives " +
+                                                    std::to_string(n));
+                    const auto& m = old->markers.markers;
+                    fs.markers.markers.insert(fs.markers.markers.end(), m.begin() + std::ptrdiff_t(e) * n,
+                                              m.begin() + std::ptrdiff_t(e + 1) * n);
+                    continue;
+                }
+                // An edge of a fresh parent front gets markers on the coarse edge as place_markers
+                // puts them (active); a new edge gets stopped ones.
+                const Vec3 normal = triangle_normal(cracks, std::size_t(edge_triangle.at({a, b})));
+                for (int k = 0; k < n; ++k)
+                    fs.markers.markers.push_back(edge_marker(cracks.vertices[a], cracks.vertices[b], normal,
+                                                             static_cast<double>(k) / n, old != nullptr));
+            }
+        }
+        fronts.push_back({{fs.front.region, first_old}, std::move(fs)});
+    }
+    std::stable_sort(fronts.begin(), fronts.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (auto& [key, fs] : fronts) out.state.fronts.push_back(std::move(fs));
+
+    out.state.openings.opening.assign(cracks.num_vertices(), Vec3::Zero());
+    out.state.openings.known.assign(cracks.num_vertices(), 0);
+    return out;
+}
+
+}  // namespace cf::propagate
