@@ -60,6 +60,8 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
     double first_t = 1e300, last_t = -1, first_n = 0, last_n = 0;
     // BEM step at which crack growth became estimated (assemble.sgbem method estimator / hybrid), -1: never.
     double switch_step = -1;
+    // Rigid-body scenes: Table 3's figures, from export.animation (the runs are in fracture_runs.json).
+    const std::map<std::string, double>* scene = nullptr;
     for (std::size_t i = 0; i < plan.nodes.size(); ++i) {
         const graph::NodeStats& s = result.stats[i];
         if (plan.nodes[i].is_loop()) {
@@ -87,6 +89,7 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
             }
         }
         if (s.type == "segment.fragments" && s.runs > 0) fragments = count_or(s.counts, "fragments");
+        if (s.type == "export.animation" && s.runs > 0) scene = &s.counts;
     }
     w.key("summary").begin_object();
     w.key("stage_seconds");
@@ -109,6 +112,20 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
             for (const auto& [k, v] : stops) w.key(k).value(static_cast<long long>(v));
             w.end_object();
         }
+        w.end_object();
+    }
+    if (scene) {
+        w.key("scene").begin_object();
+        for (const char* k : {"frames", "pieces", "fracture_runs", "breaks", "failed_runs", "largest_bem_triangles",
+                              "rigid_seconds", "fracture_seconds"}) {
+            const double v = count_or(*scene, k);
+            if (std::string(k).find("seconds") != std::string::npos) w.key(k).value(v);
+            else w.key(k).value(static_cast<long long>(v));
+        }
+        w.key("pieces_by_class").begin_object();
+        for (const char* k : {"original", "hull", "mesh", "breakable", "large"})
+            w.key(k).value(static_cast<long long>(count_or(*scene, std::string("pieces_") + k)));
+        w.end_object();
         w.end_object();
     }
     w.end_object();

@@ -10,6 +10,7 @@
 #include "nodes/rigid/animation_gltf.hpp"
 #include "nodes/rigid/impact_pipeline.hpp"
 #include "nodes/rigid/scene_state.hpp"
+#include "nodes/rigid/scene_preview.hpp"
 #include "nodes/rigid/scene_report.hpp"
 #include "nodes/rigid/transform_cache.hpp"
 #include "nodes/vec3_param.hpp"
@@ -396,6 +397,51 @@ graph::NodeType export_animation_node() {
     return t;
 }
 
+graph::NodeType scene_preview_node() {
+    graph::NodeType t("export.scene_preview",
+                      "Renders a scene's latest frame as a PNG (software z-buffer, flat shading, every body in its own "
+                      "hue and its fragments in shades of it, the ground as a checkerboard); connect frames.each.scene "
+                      "for one image per frame. Deterministic for any thread count.");
+    t.input<rigid::SceneState>("scene", "a scene state (frames.each.scene: every frame)");
+    t.param_string("path", "preview/frame_{iteration}.png",
+                   "PNG file; relative to the run's output directory; '{iteration}' becomes the loop iteration");
+    t.param_reals("camera", {2.5, -3.0, 1.8}, "m", "camera position").size(3);
+    t.param_reals("target", {0, 0, 0.3}, "m", "the point the camera looks at (image centre)").size(3);
+    t.param_reals("up", {0, 0, 1}, "", "the scene's vertical (image up)").size(3);
+    t.param_real("fov", 40, "deg", "vertical field of view").above(0).below(180);
+    t.param_int("width", 640, "image width [pixels]").range(16, 8192);
+    t.param_int("height", 480, "image height [pixels]").range(16, 8192);
+    t.param_bool("ground", true, "draw the scene's ground plane (when it has one)");
+    t.output<std::string>("path", "the file written");
+    t.run([](graph::NodeContext& c) {
+        rigid::SceneCamera cam;
+        cam.position = vec3_param(c, "camera");
+        cam.target = vec3_param(c, "target");
+        cam.up = vec3_param(c, "up");
+        cam.fov_degrees = c.real("fov");
+        cam.width = static_cast<int>(c.integer("width"));
+        cam.height = static_cast<int>(c.integer("height"));
+        if (const std::string problem = rigid::scene_camera_problem(cam); !problem.empty()) c.fail("parameter " + problem);
+        const rigid::SceneState& s = c.in<rigid::SceneState>("scene");
+        // Only the latest frame: the pieces (rest meshes shared) and that frame's poses.
+        rigid::Animation a;
+        a.frame_rate = s.frame_rate;
+        a.pieces = *s.pieces;
+        a.frames.push_back(s.last->frame);
+        const rigid::SceneSettings& settings = s.simulation->settings();  // fixed at construction
+        const std::filesystem::path png = c.output_path(c.string("path"));
+        try {
+            rigid::render_scene_preview(a, 0, cam, png, settings.ground_point, -settings.world.gravity.normalized(),
+                                        c.boolean("ground") && settings.ground);
+        } catch (const std::invalid_argument& e) {
+            c.fail(e.what());
+        }
+        c.count("frame", s.frame);
+        c.out("path", png.string());
+    });
+    return t;
+}
+
 }  // namespace
 
 void register_rigid_nodes(graph::NodeRegistry& r) {
@@ -406,6 +452,7 @@ void register_rigid_nodes(graph::NodeRegistry& r) {
     r.add(carried_cracks_node());
     r.add(fragments_result_node());
     r.add(export_animation_node());
+    r.add(scene_preview_node());
 }
 
 }  // namespace cf

@@ -26,7 +26,7 @@ namespace cf::rigid {
 namespace {
 
 constexpr int kMinSize = 16, kMaxSize = 8192;  // [pixels], as the fragment preview
-constexpr int kBandRows = 8;                    // rows per rasterisation task
+constexpr int kBandRows = 8;                    // rows per rasterisation task (60 tasks for 480 rows)
 constexpr double kPi = 3.14159265358979323846;
 
 // Sky and ground colours (RGB in [0, 1]).
@@ -76,8 +76,8 @@ inline ScreenPoint project(const Vec3& v, const CameraFrame& cam) {
     return {cam.cx + cam.focal * v.x() * inv_z, cam.cy - cam.focal * v.y() * inv_z, inv_z};
 }
 
-// A projected triangle ready to rasterise: counter-clockwise in pixel coordinates, i.e. with a
-// positive edge function inside.
+// A projected triangle ready to rasterise, its corners ordered so that area2 and the three edge
+// functions are positive inside.
 struct ScreenTriangle {
     ScreenPoint v[3];
     double area2 = 0;          // twice the pixel area (> 0)
@@ -85,8 +85,8 @@ struct ScreenTriangle {
     float shade = 0;           // colour factor (ambient + diffuse)
 };
 
-// Orders the corners, finds the pixel range; false if the triangle covers no pixel centre (the
-// usual case for a fine fragment mesh at preview resolution) or is degenerate / edge-on.
+// Orders the corners, finds the pixel range; false if the triangle covers no pixel centre (common
+// for a fine fragment mesh at preview resolution) or is degenerate / edge-on.
 bool set_up(const ScreenPoint& a, const ScreenPoint& b, const ScreenPoint& c, const CameraFrame& cam,
             ScreenTriangle& t) {
     t.area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
@@ -197,8 +197,14 @@ void clip(const Vec3 (&v)[3], float shade, const CameraFrame& cam, ProjectedPiec
     }
 }
 
-void project_piece(const Animation& a, int index, const PiecePose& pose, const CameraFrame& cam, const Vec3& light,
-                   ProjectedPiece& result) {
+// Per-task scratch space, reused from piece to piece (fresh allocations page-fault).
+struct Scratch {
+    std::vector<Vec3> world, camera;
+};
+
+void project_piece(const Animation& a, int index, const PiecePose& pose, const Vec3& colour, const CameraFrame& cam,
+                   const Vec3& light, Scratch& scratch, ProjectedPiece& result) {
+    result.colour = colour;
     const AnimationPiece& piece = a.pieces[std::size_t(index)];
     const std::string who = "piece " + std::to_string(index) + " ('" + piece.name + "')";
     if (!piece.rest_mesh) {
@@ -210,17 +216,15 @@ void project_piece(const Animation& a, int index, const PiecePose& pose, const C
         result.error = who + ": pose is not finite or its rotation is not a unit quaternion";
         return;
     }
-    try {
-        result.colour = scene_piece_colour(a, std::size_t(index));
-    } catch (const std::invalid_argument& e) {  // a bad parent
-        result.error = e.what();
-        return;
-    }
     const SurfaceMesh& mesh = *piece.rest_mesh;
     result.mesh = &mesh;
     const Eigen::Matrix3d rotation = pose.rotation.toRotationMatrix();
-    std::vector<Vec3> world(mesh.num_vertices()), camera(mesh.num_vertices());
+    std::vector<Vec3>& world = scratch.world;
+    std::vector<Vec3>& camera = scratch.camera;
+    world.resize(mesh.num_vertices());
+    camera.resize(mesh.num_vertices());
     result.screen.resize(mesh.num_vertices());  // once per vertex: ~6 triangles share each
+    result.drawables.reserve(mesh.num_triangles() / 2);  // about the front-facing half
     for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
         world[i] = pose.position + rotation * mesh.vertices[i];
         if (!world[i].allFinite()) {
@@ -306,18 +310,6 @@ Vec3 hsv_to_rgb(double hue_degrees, double s, double v) {
 
 double fraction(double x) { return x - std::floor(x); }
 
-// The sibling number k of a fragment named "<parent name>.<k>", or -1 for another name.
-long long sibling_number(const std::string& name, const std::string& parent) {
-    if (name.size() <= parent.size() + 1 || name.compare(0, parent.size(), parent) != 0 || name[parent.size()] != '.')
-        return -1;
-    long long k = 0;
-    for (std::size_t i = parent.size() + 1; i < name.size(); ++i) {
-        if (name[i] < '0' || name[i] > '9' || k > 1'000'000'000) return -1;
-        k = 10 * k + (name[i] - '0');
-    }
-    return k;
-}
-
 }  // namespace
 
 std::string scene_camera_problem(const SceneCamera& c) {
@@ -342,33 +334,49 @@ Vec3 scene_light_direction(const SceneCamera& c) {
     return (-1.0 * f.right + 1.0 * f.up - 1.5 * f.forward).normalized();
 }
 
-Vec3 scene_piece_colour(const Animation& a, std::size_t piece) {
-    if (piece >= a.pieces.size())
-        throw std::invalid_argument("piece " + std::to_string(piece) + ": out of range, the animation has " +
-                                    std::to_string(a.pieces.size()) + " pieces");
-    // The original ancestor (bounded walk: a parent cycle is an error, not a hang).
-    std::size_t root = piece;
-    for (std::size_t steps = 0; a.pieces[root].parent != -1; ++steps) {
-        const int parent = a.pieces[root].parent;
-        if (parent < 0 || std::size_t(parent) >= a.pieces.size() || steps >= a.pieces.size())
-            throw std::invalid_argument("piece " + std::to_string(root) + " ('" + a.pieces[root].name +
-                                        "'): parent " + std::to_string(parent) +
-                                        " is out of range or part of a cycle");
-        root = std::size_t(parent);
+std::vector<Vec3> scene_piece_colours(const Animation& a) {
+    const std::size_t n = a.pieces.size();
+    // Each piece's original ancestor (bounded walk: a parent cycle is an error, not a hang).
+    std::vector<std::size_t> root(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::size_t r = i;
+        for (std::size_t steps = 0; a.pieces[r].parent != -1; ++steps) {
+            const int parent = a.pieces[r].parent;
+            if (parent < 0 || std::size_t(parent) >= n || steps >= n)
+                throw std::invalid_argument("piece " + std::to_string(r) + " ('" + a.pieces[r].name + "'): parent " +
+                                            std::to_string(parent) + " is out of range or part of a cycle");
+            r = std::size_t(parent);
+        }
+        root[i] = r;
     }
-    const double hue = 30.0 * double(fnv1a(a.pieces[root].name) % 12);
-    if (root == piece) return hsv_to_rgb(hue, 0.7, 0.9);
-    // A fragment: consecutive siblings take consecutive points of the R2 low-discrepancy sequence
-    // (well apart in hue shift and value), starting at a point set by the parent's name so that
-    // fragments of different parents differ too.
-    const AnimationPiece& p = a.pieces[piece];
-    const std::string& parent_name = a.pieces[std::size_t(p.parent)].name;
-    const long long k = sibling_number(p.name, parent_name);
-    const std::uint64_t n = fnv1a(parent_name) % 1000 + (k >= 0 ? std::uint64_t(k) : fnv1a(p.name) % 100000);
-    constexpr double g = 1.32471795724474602596;  // plastic number
-    const double u1 = fraction(0.5 + double(n) / g), u2 = fraction(0.5 + double(n) / (g * g));
-    const double u3 = fraction(0.5 + double(n) * 0.61803398874989484820);
-    return hsv_to_rgb(hue + 8.0 * (2 * u1 - 1), 0.45 + 0.4 * u3, 0.55 + 0.45 * u2);
+    // Originals in the order of their names' hashes take hues a golden angle apart: any few
+    // bodies are well apart (2: 137.5 degrees, 5: >= 52, 8: >= 32), which hashing each name to a
+    // hue independently would not give (6 bodies on 12 hues share one 78 % of the time).
+    std::vector<std::pair<std::uint64_t, std::size_t>> originals;
+    for (std::size_t i = 0; i < n; ++i)
+        if (root[i] == i) originals.emplace_back(fnv1a(a.pieces[i].name), i);
+    std::sort(originals.begin(), originals.end());
+    std::vector<double> hue(n, 0);
+    for (std::size_t r = 0; r < originals.size(); ++r)
+        hue[originals[r].second] = 360 * fraction(0.07 + double(r) * 0.38196601125010515180);
+    std::vector<Vec3> colours(n);
+    std::vector<std::uint64_t> fragments_so_far(n, 0);  // per original
+    constexpr double g = 1.32471795724474602596;  // plastic number, for the R2 sequence
+    for (std::size_t i = 0; i < n; ++i) {
+        const double h = hue[root[i]];
+        if (root[i] == i) {
+            colours[i] = hsv_to_rgb(h, 0.7, 0.9);
+            continue;
+        }
+        // The k-th fragment of a body (in piece order, at any depth) takes the k-th point of the
+        // R2 low-discrepancy sequence: consecutive points are well apart in hue shift, saturation
+        // and value, so no two fragments of one body look alike.
+        const double k = double(fragments_so_far[root[i]]++);
+        const double u1 = fraction(0.5 + k / g), u2 = fraction(0.5 + k / (g * g));
+        const double u3 = fraction(0.5 + k * 0.61803398874989484820);
+        colours[i] = hsv_to_rgb(h + 6.0 * (2 * u1 - 1), 0.45 + 0.4 * u3, 0.55 + 0.45 * u2);
+    }
+    return colours;
 }
 
 std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f, const SceneCamera& c,
@@ -392,11 +400,16 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
                                         ", out of range (the animation has " + std::to_string(a.pieces.size()) +
                                         " pieces)");
 
+    const std::vector<Vec3> colours = scene_piece_colours(a);
+
     // 1. Project every piece.
     std::vector<ProjectedPiece> per_piece(frame.poses.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frame.poses.size()), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-            project_piece(a, frame.poses[i].first, frame.poses[i].second, cam, light, per_piece[i]);
+        Scratch scratch;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const auto& [index, pose] = frame.poses[i];
+            project_piece(a, index, pose, colours[std::size_t(index)], cam, light, scratch, per_piece[i]);
+        }
     });
     for (const ProjectedPiece& p : per_piece)
         if (!p.error.empty()) throw std::invalid_argument("frame " + std::to_string(f) + ": " + p.error);
@@ -423,67 +436,67 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
     // Haze length: the checkerboard fades into the horizon over ~15 viewing distances.
     const double haze = 15 * std::max(1.0, (c.target - c.position).norm());
     const Vec3 vertical = c.up.normalized();
-    std::vector<float> colour(3 * pixels);
-    std::vector<std::int32_t> visible(pixels, -1);  // pose slot shown at each pixel, -1: ground or sky
+    auto ray = [&](int x, int y) {
+        return Vec3((cam.focal * cam.forward + (x + 0.5 - cam.cx) * cam.right - (y + 0.5 - cam.cy) * cam.up)
+                        .normalized());
+    };
+    auto ground_hit = [&](const Vec3& dir) {  // ray parameter [m] of the ground, -1: none
+        if (!ground) return -1.0;
+        const double t = plane_offset / dir.dot(n);
+        return t > 0 && std::isfinite(t) ? t : -1.0;
+    };
+    // 3a. Where the ground is nearer than the piece found there, the pixel shows the ground.
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y != r.end(); ++y)
             for (int x = 0; x < width; ++x) {
                 const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
-                const Vec3 dir = (cam.focal * cam.forward + (x + 0.5 - cam.cx) * cam.right -
-                                  (y + 0.5 - cam.cy) * cam.up).normalized();
-                double ground_t = -1;  // ray parameter of the ground hit [m], -1: none
-                if (ground) {
-                    const double denom = dir.dot(n);
-                    if (denom != 0) {
-                        const double t = plane_offset / denom;
-                        const double z = t * dir.dot(cam.forward);
-                        if (t > 0 && std::isfinite(t) && 1 / z > depth.inv_depth[p]) ground_t = t;
-                    }
-                }
-                Vec3 rgb;
-                if (const PixelOwner o = depth.owner[p]; ground_t < 0 && o.slot >= 0) {
-                    const ProjectedPiece& piece = per_piece[std::size_t(o.slot)];
-                    const double shade = o.item >= 0 ? piece.drawables[std::size_t(o.item)].shade
-                                                     : piece.clipped[std::size_t(-1 - o.item)].shade;
-                    rgb = (shade * piece.colour).cwiseMin(1.0).cwiseMax(0.0);
-                    visible[p] = o.slot;
-                } else {
-                    const double s = dir.dot(vertical);
-                    const Vec3 sky = s >= 0 ? Vec3(kHorizon + s * (kZenith - kHorizon))
-                                            : Vec3(kHorizon + (-s) * (kNadir - kHorizon));
-                    if (ground_t < 0) {
-                        rgb = sky;
-                    } else {
-                        const Vec3 d = cam.eye + ground_t * dir - ground_point;
-                        // 1 m squares; parity in double (fmod is exact; no overflow far away).
-                        const bool light_square =
-                            std::fmod(std::floor(d.dot(e1)) + std::floor(d.dot(e2)), 2.0) == 0;
-                        // Contrast fades with distance and where squares shrink below ~4 pixels
-                        // (gone at 2), which would alias into noise.
-                        const double footprint = ground_t / (cam.focal * std::abs(dir.dot(n)));  // [m/pixel]
-                        const double fade = std::exp(-ground_t / haze);
-                        const double contrast = fade * std::clamp((0.5 - footprint) / 0.25, 0.0, 1.0);
-                        const Vec3 mean = 0.5 * (kCheckLight + kCheckDark);
-                        const Vec3 check = mean + contrast * ((light_square ? kCheckLight : kCheckDark) - mean);
-                        rgb = fade * check + (1 - fade) * kHorizon;
-                    }
-                }
-                for (int k = 0; k < 3; ++k) colour[3 * p + std::size_t(k)] = float(rgb[k]);
+                if (depth.owner[p].slot < 0) continue;
+                const Vec3 dir = ray(x, y);
+                const double t = ground_hit(dir);
+                if (t > 0 && 1 / (t * dir.dot(cam.forward)) > depth.inv_depth[p]) depth.owner[p].slot = -1;
             }
     });
+    // 3b. Colours; the outline reads the neighbours' owners, final after 3a.
+    const Vec3 mean_check = 0.5 * (kCheckLight + kCheckDark);
     std::vector<unsigned char> image(3 * pixels);
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y != r.end(); ++y)
             for (int x = 0; x < width; ++x) {
                 const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
-                const std::int32_t id = visible[p];
-                const bool edge = id >= 0 && ((x > 0 && visible[p - 1] != id) || (x + 1 < width && visible[p + 1] != id) ||
-                                              (y > 0 && visible[p - std::size_t(width)] != id) ||
-                                              (y + 1 < height && visible[p + std::size_t(width)] != id));
-                const double factor = edge ? kSceneOutline : 1.0;
+                const PixelOwner o = depth.owner[p];
+                Vec3 rgb;
+                if (o.slot >= 0) {
+                    const ProjectedPiece& piece = per_piece[std::size_t(o.slot)];
+                    const double shade = o.item >= 0 ? piece.drawables[std::size_t(o.item)].shade
+                                                     : piece.clipped[std::size_t(-1 - o.item)].shade;
+                    auto other = [&](std::size_t q) { return depth.owner[q].slot != o.slot; };
+                    const bool edge = (x > 0 && other(p - 1)) || (x + 1 < width && other(p + 1)) ||
+                                      (y > 0 && other(p - std::size_t(width))) ||
+                                      (y + 1 < height && other(p + std::size_t(width)));
+                    rgb = (shade * piece.colour).cwiseMin(1.0).cwiseMax(0.0) * (edge ? kSceneOutline : 1.0);
+                } else {
+                    const Vec3 dir = ray(x, y);
+                    if (const double t = ground_hit(dir); t > 0) {
+                        const Vec3 d = cam.eye + t * dir - ground_point;
+                        // 1 m squares; parity in double (fmod is exact; no overflow far away).
+                        const bool light_square = std::fmod(std::floor(d.dot(e1)) + std::floor(d.dot(e2)), 2.0) == 0;
+                        // Contrast fades with distance and where squares shrink below ~4 pixels
+                        // (gone at 2), which would alias into noise.
+                        const double footprint = t / (cam.focal * std::abs(dir.dot(n)));  // [m/pixel]
+                        const double fade = std::exp(-t / haze);
+                        const double contrast = fade * std::clamp((0.5 - footprint) / 0.25, 0.0, 1.0);
+                        const Vec3 square = light_square ? kCheckLight : kCheckDark;
+                        const Vec3 check = mean_check + contrast * (square - mean_check);
+                        rgb = fade * check + (1 - fade) * kHorizon;
+                    } else {
+                        const double s = dir.dot(vertical);  // sky gradient by elevation
+                        rgb = s >= 0 ? Vec3(kHorizon + s * (kZenith - kHorizon))
+                                     : Vec3(kHorizon - s * (kNadir - kHorizon));
+                    }
+                }
                 for (int k = 0; k < 3; ++k)
-                    image[3 * p + std::size_t(k)] = static_cast<unsigned char>(
-                        std::lround(255 * std::clamp(factor * colour[3 * p + std::size_t(k)], 0.0, 1.0)));
+                    image[3 * p + std::size_t(k)] =
+                        static_cast<unsigned char>(std::lround(255 * std::clamp(rgb[k], 0.0, 1.0)));
             }
     });
     return image;

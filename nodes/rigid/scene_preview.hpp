@@ -28,12 +28,16 @@ std::string scene_camera_problem(const SceneCamera& c);
 
 // The image itself, for tests: 3 * width * height RGB bytes, row 0 at the top. Draws every piece
 // that has a pose in frame `f`, at x_world = position + rotation * x_rest. The ground is the plane
-// through `ground_point` with normal `ground_normal` (any length), drawn only if `ground`.
+// through `ground_point` with normal `ground_normal` (any length), drawn only if `ground`, as a
+// light checkerboard of 1 m squares (from ground_point, along the world x axis projected on the
+// plane) that fades into the horizon with distance and where squares get smaller than 4 pixels.
 // Faces whose outward normal points away from the camera are not drawn (back-face culling: rest
 // meshes are closed and counter-clockwise seen from outside, as SurfaceMesh has it; an inverted
-// mesh shows its inside). Throws std::invalid_argument naming what is wrong for a bad camera, `f` out of range, a bad
-// ground plane (when drawn), or a pose/piece that cannot be drawn (piece index out of range, no
-// rest mesh, a triangle index out of range, a non-finite vertex or pose).
+// mesh shows its inside); geometry nearer to the camera than 1/1000 of its distance to the target
+// is clipped. Throws std::invalid_argument naming what is wrong for a bad camera, `f`
+// out of range, a bad ground plane (when drawn), or a pose/piece that cannot be drawn (piece index
+// out of range, no rest mesh, a triangle index out of range, a non-finite vertex or pose, a
+// rotation whose quaternion norm is off 1 by more than 1e-6, a bad parent).
 std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f, const SceneCamera& c,
                                               const Vec3& ground_point, const Vec3& ground_normal, bool ground);
 
@@ -44,11 +48,15 @@ void render_scene_preview(const Animation& a, std::size_t f, const SceneCamera& 
 
 // ---- shading, public so tests can compute the expected pixel by hand ---------------------------
 
-// Base colour of piece `piece` (RGB in [0, 1]), a function of names only: an original body takes
-// one of 12 hues 30 degrees apart from an FNV-1a hash of its name (full saturation 0.7, value
-// 0.9); a fragment takes its original ancestor's hue shifted by at most 8 degrees and its own
-// saturation and value (from the hash of its own name), so fragments read as shades of their body.
-Vec3 scene_piece_colour(const Animation& a, std::size_t piece);
+// Base colour of every piece (RGB in [0, 1]), a function of the pieces' names, parents and order
+// (the same in every frame and run; adding or renaming a body may change the others'). Original
+// bodies, ordered by an FNV-1a hash of their names, take hues a golden angle (137.5 degrees)
+// apart, at saturation 0.7 and value 0.9. A fragment takes its original ancestor's hue shifted by
+// at most 6 degrees and its own saturation in [0.45, 0.85] and value in [0.55, 1] (the k-th
+// fragment of a body, in piece order, from the k-th point of a low-discrepancy sequence: no two
+// alike), so fragments read as shades of their body. Throws std::invalid_argument naming a piece
+// whose parent is out of range or part of a cycle.
+std::vector<Vec3> scene_piece_colours(const Animation& a);
 
 // Unit vector towards the light, fixed to the camera: normalise(-1 right + 1 up + 1.5 back), i.e.
 // from the camera's upper left. A face with unit normal n (outward, facing the camera) is drawn in

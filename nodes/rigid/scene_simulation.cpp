@@ -279,29 +279,33 @@ struct SceneSimulation::Impl {
         return out;
     }
 
-    // Fragment k of piece `parent` as a new piece (ch. 7.3), placed by the parent's state `s`.
-    // Returns the incomplete-crack triangles it carries (ch. 7.3).
-    std::size_t add_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame,
-                             const std::shared_ptr<const propagate::FractureState>& cracks) {
-        Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
+    // A fragment of piece `parent_id` made ready to become a piece (ch. 7.3), placed by the parent's
+    // state `s`: its class, meshes, mass properties, motion and fracture model. Reads only the parent
+    // (no shared state is written), so the fragments of a step are prepared concurrently.
+    struct PreparedFragment {
+        Piece piece;
+        BodySpec spec;
+        AnimationPiece anim;
+        std::size_t carried = 0;  // incomplete-crack triangles it carries
+    };
+    PreparedFragment prepare_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame,
+                                      const std::shared_ptr<const propagate::FractureState>& cracks) const {
+        const Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
         const BreakableModel& model = *parent.breakable;
         const std::shared_ptr<const FractureSettings> fs = model.settings;
-        const AnimationPiece& parent_anim = animation[static_cast<std::size_t>(parent.animation)];
         const double V0 = model.original_volume;
         PieceClass cls = PieceClass::breakable;
         if (f.volume > 0.95 * model.volume) cls = PieceClass::large;
         else if (f.volume <= 0.005 * V0) cls = PieceClass::hull;
         else if (f.volume <= 0.02 * V0) cls = PieceClass::mesh;
 
-        std::size_t carried = 0;
+        PreparedFragment out;
         const Eigen::Isometry3d material_to_world = body_to_world(s) * parent.material_to_body;
         const SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
         const FragmentBody fb = fragment_body(material_mesh, f.volume, model.settings->material.rho, material_to_world,
                                               RigidMotion{s.position, s.velocity, s.angular_velocity});
-        const MassProperties& mp = fb.mass;
-        const SurfaceMesh world_mesh = transformed(material_mesh, material_to_world);
 
-        Piece piece;
+        Piece& piece = out.piece;
         piece.dynamic = true;
         piece.parent = parent_id;
         piece.born_step = step_index;
@@ -312,11 +316,10 @@ struct SceneSimulation::Impl {
         piece.restitution = parent.restitution;
         piece.material_to_body = fb.material_to_body;
 
-        BodySpec spec;
-        spec.name = parent_anim.name + "." + std::to_string(parent.children++);
+        BodySpec& spec = out.spec;
         spec.kind = BodyKind::dynamic;
-        spec.mesh = world_mesh;
-        spec.mass = mp;
+        spec.mesh = transformed(material_mesh, material_to_world);
+        spec.mass = fb.mass;
         spec.friction = parent.friction;
         spec.restitution = parent.restitution;
         spec.velocity = fb.motion.velocity;
@@ -328,7 +331,7 @@ struct SceneSimulation::Impl {
                 if (cracks && cracks->cracks.num_triangles() > 0) {
                     propagate::FragmentCracks fc = propagate::restrict_to_fragment(*cracks, f.grid, *bm.bem_mesh);
                     if (fc.state.cracks.num_triangles() > 0) {
-                        carried = fc.state.cracks.num_triangles();
+                        out.carried = fc.state.cracks.num_triangles();
                         // The fragment's object without the slits of the cracks it keeps (they grow from it).
                         bm.object = fill_crack_slits(f.grid, model.object, fc.state.grids.cracks);
                         bm.cracks = std::make_shared<const propagate::FractureState>(std::move(fc.state));
@@ -340,6 +343,7 @@ struct SceneSimulation::Impl {
                 spec.collision_mesh = transformed(*m->bem_mesh, material_to_world);
             } catch (const std::exception&) {
                 cls = PieceClass::mesh;  // too thin to remesh at the BEM target: collides, never breaks again
+                out.carried = 0;
             }
         }
         if (cls == PieceClass::mesh) {
@@ -357,16 +361,22 @@ struct SceneSimulation::Impl {
         if (cls == PieceClass::hull) spec.collision = CollisionShape::hull;
         piece.sphere_curvature = std::cbrt(4.0 * M_PI / (3.0 * f.volume));
 
-        AnimationPiece anim;
-        anim.name = spec.name;
+        AnimationPiece& anim = out.anim;
         anim.parent = parent.animation;
         anim.piece_class = cls;
         anim.volume = f.volume;
         anim.dynamic = true;
         anim.rest_mesh = std::make_shared<const SurfaceMesh>(transformed(material_mesh, piece.material_to_body));
         anim.first_frame = frame;
-        add_piece(std::move(piece), spec, std::move(anim));
-        return carried;
+        return out;
+    }
+
+    // Names it "<parent>.<k>" (k counts the parent's fragments) and inserts it, in a fixed order.
+    void add_fragment(PreparedFragment f) {
+        Piece& parent = pieces[static_cast<std::size_t>(f.piece.parent)];
+        f.spec.name = animation[static_cast<std::size_t>(parent.animation)].name + "." + std::to_string(parent.children++);
+        f.anim.name = f.spec.name;
+        add_piece(std::move(f.piece), f.spec, std::move(f.anim));
     }
 
     // One rigid step; fracture runs after it unless `repeat` (the repeated step of ch. 7.3).
@@ -454,18 +464,31 @@ struct SceneSimulation::Impl {
         // Making the fragments' bodies (meshes, remeshing, mass properties) counts as fracture time.
         const auto t_fragments = Clock::now();
         world.restore(before);
+        struct Job {
+            std::size_t broken;      // index into broken
+            const Fragment* fragment;
+        };
+        std::vector<Job> jobs;
+        for (std::size_t b = 0; b < broken.size(); ++b)
+            for (const Fragment* f : broken[b].second) jobs.push_back({b, f});
+        std::vector<PreparedFragment> prepared(jobs.size());
+        tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
+            const int id = broken[jobs[k].broken].first;
+            prepared[k] = prepare_fragment(id, before[static_cast<std::size_t>(id)], *jobs[k].fragment, frame,
+                                           state_of_break[jobs[k].broken]);
+        });
         for (std::size_t b = 0; b < broken.size(); ++b) {
             const int id = broken[b].first;
-            const std::vector<const Fragment*>& fragments = broken[b].second;
             Piece& parent = pieces[static_cast<std::size_t>(id)];
             parent.alive = false;
             world.remove_body(id);
             animation[static_cast<std::size_t>(parent.animation)].last_frame = frame - 1;
-            for (const Fragment* f : fragments)
-                runs[run_of_break[b]].carried_triangles +=
-                    add_fragment(id, before[static_cast<std::size_t>(id)], *f, frame, state_of_break[b]);
             report.breaks += 1;
-            report.new_pieces += static_cast<int>(fragments.size());
+            report.new_pieces += static_cast<int>(broken[b].second.size());
+        }
+        for (std::size_t k = 0; k < jobs.size(); ++k) {
+            runs[run_of_break[jobs[k].broken]].carried_triangles += prepared[k].carried;
+            add_fragment(std::move(prepared[k]));
         }
         report.fracture_seconds += seconds_since(t_fragments);
         const auto t2 = Clock::now();
