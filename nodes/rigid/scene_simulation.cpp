@@ -102,10 +102,10 @@ SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles,
 }
 
 BreakableModel make_breakable_model(std::shared_ptr<const FractureSettings> settings, LevelSet object,
-                                    double original_volume, std::shared_ptr<const SurfaceMesh> bem_mesh) {
+                                    double original_volume, std::shared_ptr<const SurfaceMesh> bem_mesh, double volume) {
     BreakableModel m;
     m.settings = std::move(settings);
-    m.volume = level_set_volume(object);
+    m.volume = volume > 0 ? volume : level_set_volume(object);
     m.original_volume = original_volume > 0 ? original_volume : m.volume;
     if (!bem_mesh)
         bem_mesh = std::make_shared<const SurfaceMesh>(
@@ -327,7 +327,8 @@ struct SceneSimulation::Impl {
 
         if (cls == PieceClass::large || cls == PieceClass::breakable) {
             try {
-                BreakableModel bm = make_breakable_model(fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr);
+                BreakableModel bm =
+                    make_breakable_model(fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr, f.volume);
                 if (cracks && cracks->cracks.num_triangles() > 0) {
                     propagate::FragmentCracks fc = propagate::restrict_to_fragment(*cracks, f.grid, *bm.bem_mesh);
                     if (fc.state.cracks.num_triangles() > 0) {
