@@ -157,7 +157,10 @@ int cancel_run_with(int sig, const std::filesystem::path& dir) {
               "--out", dir.c_str(), static_cast<char*>(nullptr));
         _exit(99);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    // Long enough for the handlers to be installed however slowly the binary starts: a sanitizer
+    // build on a loaded machine needed more than 500 ms, and the signal's default action killed it.
+    // The run itself lasts 30 s (settle.seconds), so the signal still lands mid-run.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2000));
     kill(pid, sig);
     int status = 0;
     waitpid(pid, &status, 0);
