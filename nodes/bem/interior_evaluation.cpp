@@ -1,6 +1,7 @@
 #include "nodes/bem/interior_evaluation.hpp"
 
 #include "nodes/bem/quadrature.hpp"
+#include "nodes/domain/triangle_closest_point.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -14,38 +15,6 @@
 namespace cf::bem {
 
 namespace {
-
-// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5),
-// returned as barycentric weights of a, b, c.
-Vec3 closest_barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return Vec3(1, 0, 0);
-    const Vec3 bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return Vec3(0, 1, 0);
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double v = d1 / (d1 - d3);
-        return Vec3(1 - v, v, 0);
-    }
-    const Vec3 cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return Vec3(0, 0, 1);
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double w = d2 / (d2 - d6);
-        return Vec3(1 - w, 0, w);
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return Vec3(0, 1 - w, w);
-    }
-    const double denom = 1 / (va + vb + vc);
-    const double v = vb * denom, w = vc * denom;
-    return Vec3(1 - v - w, v, w);
-}
 
 Vec3 at(const std::array<Vec3, 3>& p, const Vec3& bary) { return bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2]; }
 
@@ -117,7 +86,7 @@ void integrate(const Kernel& k, const Source& s, const Vec3& x, const std::array
                const InteriorQuadrature& q, bool gradient, Accumulator& acc) {
     const std::array<Vec3, 3> P = {at(s.g->p, B[0]), at(s.g->p, B[1]), at(s.g->p, B[2])};
     const double diam = std::max({(P[1] - P[0]).norm(), (P[2] - P[0]).norm(), (P[2] - P[1]).norm()});
-    const Vec3 cb = closest_barycentric(x, P[0], P[1], P[2]);
+    const Vec3 cb = closest_point_on_triangle(x, P[0], P[1], P[2]).barycentric;
     const double dist = (x - at(P, cb)).norm();
     const double ratio = dist / diam;
     if (ratio < q.leaf_ratio && depth < q.max_depth) {
@@ -175,7 +144,7 @@ Nearest nearest(const std::vector<Source>& list, const Vec3& x) {
     Nearest best;
     for (std::size_t e = 0; e < list.size(); ++e) {
         const auto& p = list[e].g->p;
-        const Vec3 b = closest_barycentric(x, p[0], p[1], p[2]);
+        const Vec3 b = closest_point_on_triangle(x, p[0], p[1], p[2]).barycentric;
         const double d = (x - at(p, b)).norm();
         if (d < best.dist) best = {e, b, d};
     }

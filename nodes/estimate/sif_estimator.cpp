@@ -1,6 +1,6 @@
 #include "nodes/estimate/sif_estimator.hpp"
 
-#include "nodes/initiate/surface_queries.hpp"
+#include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/initiate/surface_stress.hpp"
 #include "nodes/propagate/crack_front.hpp"
 
@@ -50,7 +50,7 @@ std::pair<std::size_t, double> closest_surface_triangle(const bem::SurfaceOperat
     double dist = std::numeric_limits<double>::infinity();
     for (std::size_t a = 0; a < s.geometry.size(); ++a) {
         const auto& g = s.geometry[a];
-        const double d = (p - initiate::closest_point_on_triangle(p, g.p[0], g.p[1], g.p[2])).norm();
+        const double d = (p - closest_point_on_triangle(p, g.p[0], g.p[1], g.p[2]).point).norm();
         if (d < dist) {
             dist = d;
             best = a;

@@ -9,9 +9,6 @@
 
 namespace cf::initiate {
 
-// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
-
 // Unsigned distance [m] from p to the nearest triangle of `mesh` (infinity for an empty mesh).
 double distance_to_mesh(const SurfaceMesh& mesh, const Vec3& p);
 

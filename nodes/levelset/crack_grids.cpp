@@ -1,6 +1,7 @@
 // OpenVDB translation unit: crack grids, strip recording and the marker tests of fig. 27.
 #include "nodes/levelset/crack_grids.hpp"
 
+#include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/levelset/level_set_grid.hpp"
 
 #include <openvdb/tools/Interpolation.h>
@@ -30,69 +31,6 @@ const char* to_string(MarkerHit h) {
 
 namespace {
 
-// Squared distance from p to triangle abc (closest-point regions, Ericson, RTCD 5.1.5), with
-// the edge vectors computed once per triangle (the rasteriser evaluates it at many voxels).
-struct PreparedTriangle {
-    Vec3 a, b, c, ab, ac, bc;
-};
-double distance2_prepared(const Vec3& p, const PreparedTriangle& t) {
-    const Vec3& ab = t.ab;
-    const Vec3& ac = t.ac;
-    const Vec3 ap = p - t.a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();
-    const Vec3 bp = p - t.b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return bp.squaredNorm();
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double v = d1 / (d1 - d3);
-        return (ap - v * ab).squaredNorm();
-    }
-    const Vec3 cp = p - t.c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return cp.squaredNorm();
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double w = d2 / (d2 - d6);
-        return (ap - w * ac).squaredNorm();
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (bp - w * t.bc).squaredNorm();
-    }
-    const double denom = 1 / (va + vb + vc);
-    const double v = vb * denom, w = vc * denom;
-    return (ap - ab * v - ac * w).squaredNorm();
-}
-
-double distance2_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    return distance2_prepared(p, PreparedTriangle{a, b, c, b - a, c - a, c - b});
-}
-
-// Degenerate triangles (a deactivated marker next to another: p0 == p1) still contribute
-// their edges, which distance2_point_triangle handles only if the area is not exactly zero.
-double distance2_point_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double l2 = ab.squaredNorm();
-    double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-    return (p - a - t * ab).squaredNorm();
-}
-
-bool degenerate_triangle(const Triangle3& t) {
-    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
-    const double scale = std::max({(t[1] - t[0]).squaredNorm(), (t[2] - t[0]).squaredNorm(), (t[2] - t[1]).squaredNorm()});
-    return n.squaredNorm() <= 1e-24 * scale * scale || scale == 0;
-}
-
-double distance2_robust(const Vec3& p, const Triangle3& t, bool degenerate) {
-    if (degenerate)
-        return std::min({distance2_point_segment(p, t[0], t[1]), distance2_point_segment(p, t[1], t[2]),
-                         distance2_point_segment(p, t[2], t[0])});
-    return distance2_point_triangle(p, t[0], t[1], t[2]);
-}
-
 constexpr int kLeafDim = int(openvdb::FloatTree::LeafNodeType::DIM);  // 8
 constexpr int kLeafSize = int(openvdb::FloatTree::LeafNodeType::SIZE);
 
@@ -101,7 +39,6 @@ constexpr int kLeafSize = int(openvdb::FloatTree::LeafNodeType::SIZE);
 // axis closest to its normal only the slab |n.(x - a)| <= reach around its plane.
 struct RasterTriangle {
     Triangle3 t;
-    PreparedTriangle pt;
     bool degenerate = false;
     Vec3 box_lo, box_hi;  // the triangle's own bounding box [m]: distance lower bound
     openvdb::Coord lo_i, hi_i;
@@ -113,9 +50,7 @@ struct RasterTriangle {
     double c0 = 0, cu = 0, cv = 0;
 
     RasterTriangle(const Triangle3& tri, double r_f, double reach)
-        : t(tri),
-          pt{tri[0], tri[1], tri[2], tri[1] - tri[0], tri[2] - tri[0], tri[2] - tri[1]},
-          degenerate(degenerate_triangle(tri)) {
+        : t(tri), degenerate(is_degenerate_triangle(tri[0], tri[1], tri[2])) {
         box_lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
         box_hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
         const Vec3 lo = box_lo.array() - reach, hi = box_hi.array() + reach;
@@ -141,7 +76,13 @@ struct RasterTriangle {
         }
     }
     // Squared distance from p to the triangle [m^2].
-    double distance2(const Vec3& p) const { return degenerate ? distance2_robust(p, t, true) : distance2_prepared(p, pt); }
+    // A degenerate triangle (a deactivated marker next to another: p0 == p1) is its edges; the
+    // test is made once per triangle, not per voxel.
+    double distance2(const Vec3& p) const {
+        return (degenerate ? closest_point_on_triangle_edges(p, t[0], t[1], t[2])
+                           : closest_point_on_nondegenerate_triangle(p, t[0], t[1], t[2]))
+            .distance2;
+    }
 };
 
 // The thickened distances of one leaf-sized block: the smallest squared distance over all

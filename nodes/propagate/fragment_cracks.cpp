@@ -3,6 +3,7 @@
 #include "nodes/bem/element_geometry.hpp"
 #include "nodes/bem/surface_intersection.hpp"
 #include "nodes/domain/mesh_topology.hpp"
+#include "nodes/domain/triangle_closest_point.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -23,27 +24,6 @@ Edge undirected(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
 // ---- Distances between triangles (the surface test). Brute force over the surface: BEM meshes
 // are coarse, and each crack triangle is tested once.
-
-// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return a;
-    const Vec3 bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return b;
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-    const Vec3 cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return c;
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-    const double den = 1 / (va + vb + vc);
-    return a + ab * (vb * den) + ac * (vc * den);
-}
 
 // Distance between segments [p1, q1] and [p2, q2] (Ericson 5.1.9).
 double segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {
@@ -79,8 +59,8 @@ double triangle_distance(const bem::ElementGeometry& A, const bem::ElementGeomet
     if (bem::triangles_intersect(A, B)) return 0;
     double d = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
-        d = std::min(d, (A.p[k] - closest_on_triangle(A.p[k], B.p[0], B.p[1], B.p[2])).norm());
-        d = std::min(d, (B.p[k] - closest_on_triangle(B.p[k], A.p[0], A.p[1], A.p[2])).norm());
+        d = std::min(d, (A.p[k] - closest_point_on_triangle(A.p[k], B.p[0], B.p[1], B.p[2]).point).norm());
+        d = std::min(d, (B.p[k] - closest_point_on_triangle(B.p[k], A.p[0], A.p[1], A.p[2]).point).norm());
         for (int l = 0; l < 3; ++l) d = std::min(d, segment_distance(A.p[k], A.p[(k + 1) % 3], B.p[l], B.p[(l + 1) % 3]));
     }
     return d;

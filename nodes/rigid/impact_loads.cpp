@@ -1,6 +1,6 @@
 #include "nodes/rigid/impact_loads.hpp"
 
-#include "nodes/initiate/surface_queries.hpp"
+#include "nodes/domain/triangle_closest_point.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,8 +15,7 @@ int closest_triangle(const SurfaceMesh& mesh, const Vec3& p) {
     double best_d2 = std::numeric_limits<double>::infinity();
     for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
         const Tri& tri = mesh.triangles[t];
-        const Vec3 q = initiate::closest_point_on_triangle(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]],
-                                                            mesh.vertices[tri[2]]);
+        const Vec3 q = closest_point_on_triangle(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]).point;
         const double d2 = (q - p).squaredNorm();
         if (d2 < best_d2) {  // strict: the lowest index wins ties (deterministic)
             best_d2 = d2;

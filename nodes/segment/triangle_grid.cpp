@@ -11,57 +11,7 @@ namespace {
 
 constexpr std::int64_t kIndexLimit = std::int64_t(1) << 20;  // 21 bits per axis in a cell key
 
-TrianglePoint at(const Vec3& p, const Vec3& q, const Vec3& bary) { return {q, bary, (p - q).squaredNorm()}; }
-
-// Closest point on segment a-b as weights (1-s, s).
-TrianglePoint on_segment(const Vec3& p, const Vec3& a, const Vec3& b, int ia, int ib) {
-    const Vec3 ab = b - a;
-    const double l2 = ab.squaredNorm();
-    const double s = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-    Vec3 w = Vec3::Zero();
-    w[ia] = 1 - s;
-    w[ib] += s;
-    return at(p, a + s * ab, w);
-}
-
 }  // namespace
-
-TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return at(p, a, Vec3(1, 0, 0));
-    const Vec3 bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return at(p, b, Vec3(0, 1, 0));
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double v = d1 / (d1 - d3);
-        return at(p, a + v * ab, Vec3(1 - v, v, 0));
-    }
-    const Vec3 cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return at(p, c, Vec3(0, 0, 1));
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double w = d2 / (d2 - d6);
-        return at(p, a + w * ac, Vec3(1 - w, 0, w));
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return at(p, b + w * (c - b), Vec3(0, 1 - w, w));
-    }
-    const double sum = va + vb + vc;
-    if (!(sum > 0)) {
-        // Degenerate (collinear) triangle: the closest of its three edges.
-        TrianglePoint best = on_segment(p, a, b, 0, 1);
-        for (const TrianglePoint& e : {on_segment(p, b, c, 1, 2), on_segment(p, c, a, 2, 0)})
-            if (e.distance2 < best.distance2) best = e;
-        return best;
-    }
-    const double v = vb / sum, w = vc / sum;
-    return at(p, a + v * ab + w * ac, Vec3(1 - v - w, v, w));
-}
 
 TriangleGrid::TriangleGrid(std::vector<Triangle3> triangles, double cell_size, double max_cell_entries)
     : triangles_(std::move(triangles)), cell_(cell_size) {
@@ -124,9 +74,9 @@ const std::vector<int>* TriangleGrid::cell_list(const Cell& c) const {
 
 void TriangleGrid::test(int t, const Vec3& x, Hit& best) const {
     const Triangle3& tri = triangles_[std::size_t(t)];
-    const TrianglePoint p = closest_point_on_triangle(x, tri[0], tri[1], tri[2]);
+    const TriangleClosestPoint p = closest_point_on_triangle(x, tri[0], tri[1], tri[2]);
     const double d = std::sqrt(p.distance2);
-    if (d < best.distance || (d == best.distance && t < best.triangle)) best = Hit{t, p.point, p.bary, d};
+    if (d < best.distance || (d == best.distance && t < best.triangle)) best = Hit{t, p.point, p.barycentric, d};
 }
 
 TriangleGrid::Hit TriangleGrid::closest(const Vec3& x) const {

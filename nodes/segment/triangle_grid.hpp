@@ -4,6 +4,7 @@
 // overlaps it (the thesis uses a coarse OpenVDB grid the same way; a hash map of cells keeps
 // OpenVDB out of this code). A query looks at the cell of x and then at shells of neighbouring
 // cells until no unvisited triangle can be closer than the best one found.
+#include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/levelset/crack_grids.hpp"
 
 #include <cstdint>
@@ -12,16 +13,6 @@
 #include <vector>
 
 namespace cf {
-
-struct TrianglePoint {
-    Vec3 point = Vec3::Zero();  // closest point on the triangle
-    Vec3 bary = Vec3::Zero();   // its barycentric coordinates (weights of a, b, c), sum 1, all >= 0
-    double distance2 = 0;       // squared distance [m^2]
-};
-
-// Closest point of a (possibly degenerate) triangle to p, by the Voronoi regions of its vertices,
-// edges and face.
-TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 class TriangleGrid {
 public:

@@ -77,41 +77,6 @@ double planar_cut_error(const Vec3& x, const Vec3& moved, const Vec3& opening, b
 
 // ---------------------------------------------------------------------------------------------
 
-TEST(ClosestPointOnTriangle, MatchesDenseSampling) {
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> u(-1, 1);
-    double worst = 0;
-    for (int trial = 0; trial < 200; ++trial) {
-        const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
-        const Vec3 p = 1.5 * Vec3(u(rng), u(rng), u(rng));
-        const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
-        // The returned point is on the triangle (barycentric weights) and at the returned distance.
-        EXPECT_GE(q.bary.minCoeff(), -1e-12);
-        EXPECT_NEAR(q.bary.sum(), 1.0, 1e-12);
-        EXPECT_LT((q.bary[0] * a + q.bary[1] * b + q.bary[2] * c - q.point).norm(), 1e-12);
-        EXPECT_NEAR((p - q.point).squaredNorm(), q.distance2, 1e-12);
-        // No sample of the triangle is closer; the best sample is within the sampling step.
-        const int n = 200;
-        double best = 1e9;
-        for (int i = 0; i <= n; ++i)
-            for (int j = 0; i + j <= n; ++j) {
-                const double s = double(i) / n, t = double(j) / n;
-                best = std::min(best, (p - ((1 - s - t) * a + s * b + t * c)).norm());
-            }
-        const double d = std::sqrt(q.distance2);
-        EXPECT_LE(d, best + 1e-12);
-        worst = std::max(worst, best - d);
-    }
-    const double step = 2 * std::sqrt(12.0) / 200;  // longest possible edge / n
-    EXPECT_LT(worst, step);
-}
-
-TEST(ClosestPointOnTriangle, DegenerateTriangleIsItsLongestEdge) {
-    const TrianglePoint q = closest_point_on_triangle(Vec3(0.5, 1, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0));
-    EXPECT_NEAR(std::sqrt(q.distance2), 1.0, 1e-15);
-    EXPECT_NEAR(q.point.x(), 0.5, 1e-15);
-}
-
 TEST(TriangleGrid, ClosestAndWithinMatchBruteForce) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> pos(-1, 1), size(-0.08, 0.08);
