@@ -1,6 +1,9 @@
 #include "graph/diagnostics.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
 
 namespace cf::graph {
 
@@ -9,6 +12,20 @@ std::string format(const Diagnostic& d) {
     if (d.loc.line > 0) s += ":" + std::to_string(d.loc.line) + ":" + std::to_string(d.loc.column);
     s += ": error: " + d.message;
     if (!d.hint.empty()) s += "\n  hint: " + d.hint;
+    return s;
+}
+
+std::string format_number(double v) {
+    if (std::isnan(v)) return "nan";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    std::array<char, 32> buf;  // the longest shortest form of a double is 24 characters
+    const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+    return std::string(buf.data(), r.ptr);
+}
+
+std::string format_quantity(double v, std::string_view unit) {
+    std::string s = format_number(v);
+    if (!unit.empty()) s += " " + std::string(unit);
     return s;
 }
 

@@ -254,8 +254,8 @@ void add_bem_verification_cases(std::vector<VerificationCase>& cases) {
                          v.tolerance = 0.03;
                          v.passed = v.error <= v.tolerance;
                          v.details = std::to_string(r.crack_triangles) + " crack triangles in a 192-triangle cube of side 10a: max " +
-                                     "rel. COD error (r < 0.8a) " + std::to_string(r.max_opening_error) + ", centre " +
-                                     std::to_string(r.centre_opening_error);
+                                     "rel. COD error (r < 0.8a) " + fmt(r.max_opening_error) + ", centre " +
+                                     fmt(r.centre_opening_error);
                          return v;
                      }});
     cases.push_back({"penny_crack_sif", "penny crack K_I by displacement correlation (case 5, sgbem-math §5)", [] {
@@ -265,8 +265,8 @@ void add_bem_verification_cases(std::vector<VerificationCase>& cases) {
                          v.tolerance = 0.05;
                          v.passed = r.mean_KI_error <= 0.05 && r.max_node_KI_error <= 0.10;
                          v.details = std::to_string(r.crack_triangles) + " crack triangles: front-average K_I error " +
-                                     std::to_string(r.mean_KI_error) + " (bar 5%), worst front node " +
-                                     std::to_string(r.max_node_KI_error) + " (bar 10%)";
+                                     fmt(r.mean_KI_error) + " (bar 5%), worst front node " +
+                                     fmt(r.max_node_KI_error) + " (bar 10%)";
                          return v;
                      }});
 }

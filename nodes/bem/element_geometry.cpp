@@ -1,5 +1,7 @@
 #include "nodes/bem/element_geometry.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <stdexcept>
@@ -22,8 +24,8 @@ ElementGeometry element_geometry(const SurfaceMesh& mesh, std::size_t t) {
     g.diameter = std::max({e1.norm(), e2.norm(), (g.p[2] - g.p[1]).norm()});
     g.area = 0.5 * cr.norm();
     if (!(g.area > 1e-12 * g.diameter * g.diameter))
-        throw std::invalid_argument("triangle " + std::to_string(t) + " is degenerate (area " + std::to_string(g.area) +
-                                    " m^2, longest edge " + std::to_string(g.diameter) +
+        throw std::invalid_argument("triangle " + std::to_string(t) + " is degenerate (area " + graph::format_number(g.area) +
+                                    " m^2, longest edge " + graph::format_number(g.diameter) +
                                     " m); remove or remesh it");
     g.normal = cr / (2 * g.area);
     g.centroid = (g.p[0] + g.p[1] + g.p[2]) / 3;

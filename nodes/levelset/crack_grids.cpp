@@ -1,6 +1,7 @@
 // OpenVDB translation unit: crack grids, strip recording and the marker tests of fig. 27.
 #include "nodes/levelset/crack_grids.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/levelset/level_set_grid.hpp"
 
@@ -550,7 +551,7 @@ CrackLevelSets CrackRecorder::release() {
 
 LevelSet planar_disk_crack(const Vec3& center, const Vec3& normal, double radius, double r_f, double half_width) {
     if (!(radius > 0) || !std::isfinite(radius))
-        throw std::invalid_argument("planar crack radius must be positive, got " + std::to_string(radius));
+        throw std::invalid_argument("planar crack radius must be positive, got " + graph::format_quantity(radius, "m"));
     if (!(normal.norm() > 0) || !normal.allFinite())
         throw std::invalid_argument("planar crack normal must be a non-zero vector");
     if (!center.allFinite()) throw std::invalid_argument("planar crack centre must be finite");

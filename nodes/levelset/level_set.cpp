@@ -3,6 +3,7 @@
 #include "nodes/domain/mesh_topology.hpp"
 
 #include "graph/atomic_write.hpp"
+#include "graph/diagnostics.hpp"
 
 #include <openvdb/io/File.h>
 #include <openvdb/tools/Interpolation.h>
@@ -25,9 +26,9 @@ void ensure_openvdb_initialized() {
 LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels) {
     ensure_openvdb_initialized();
     if (!(r_f > 0) || !std::isfinite(r_f))
-        throw std::invalid_argument("voxel size r_f must be a positive number of metres, got " + std::to_string(r_f));
+        throw std::invalid_argument("voxel size r_f must be a positive number of metres, got " + graph::format_number(r_f));
     if (!(half_width >= 1))
-        throw std::invalid_argument("narrow-band half-width must be at least 1 voxel, got " + std::to_string(half_width));
+        throw std::invalid_argument("narrow-band half-width must be at least 1 voxel, got " + graph::format_number(half_width));
     if (mesh.triangles.empty()) throw std::invalid_argument("the surface mesh has no triangles");
     for (const Vec3& v : mesh.vertices)
         if (!v.allFinite()) throw std::invalid_argument("the surface mesh has a vertex with a non-finite coordinate");
@@ -38,7 +39,7 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_wi
                                     "; close the holes or remesh the input first");
     const double vol = signed_volume(mesh);
     if (!(vol > 0))
-        throw std::invalid_argument("the surface mesh encloses a non-positive signed volume (" + std::to_string(vol) +
+        throw std::invalid_argument("the surface mesh encloses a non-positive signed volume (" + graph::format_number(vol) +
                                     " m^3): its triangles face inward; flip their orientation");
     const Box3 box = bounding_box(mesh);
     const double thinnest = box.extent().minCoeff();
@@ -70,7 +71,7 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_wi
     for (auto it = g->cbeginValueOn(); it; ++it)
         if (*it < 0) { any_inside = true; break; }
     if (!any_inside)
-        throw std::invalid_argument("voxel size r_f = " + std::to_string(r_f) +
+        throw std::invalid_argument("voxel size r_f = " + graph::format_number(r_f) +
                                     " m is too large for the object: no voxel lies inside it");
     return wrap_grid(g, r_f, half_width);
 }
@@ -112,7 +113,7 @@ Box3 active_bounding_box(const LevelSet& ls) {
 
 SurfaceMesh level_set_to_mesh(const LevelSet& ls, double adaptivity) {
     if (!(adaptivity >= 0 && adaptivity <= 1))
-        throw std::invalid_argument("mesh adaptivity must lie in [0, 1], got " + std::to_string(adaptivity));
+        throw std::invalid_argument("mesh adaptivity must lie in [0, 1], got " + graph::format_number(adaptivity));
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> tris;
     std::vector<openvdb::Vec4I> quads;

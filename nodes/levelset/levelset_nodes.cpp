@@ -1,5 +1,6 @@
 // Node adapters for nodes/levelset: levelset.from_mesh, levelset.crack_planar (ch. 6.1-6.2) and
 // record.cracks (ch. 6.2, fig. 27).
+#include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/levelset/crack_grids.hpp"
@@ -74,8 +75,8 @@ graph::NodeType crack_planar_node() {
         CrackLevelSets out = c.has("cracks") ? c.in<CrackLevelSets>("cracks")
                                              : CrackLevelSets{object.voxel_size, object.half_width, {}};
         if (std::abs(out.voxel_size - object.voxel_size) > 1e-9 * object.voxel_size)
-            c.fail("input 'cracks' has voxel size " + std::to_string(out.voxel_size) + " m, the object " +
-                   std::to_string(object.voxel_size) + " m");
+            c.fail("input 'cracks' has voxel size " + graph::format_number(out.voxel_size) + " m, the object " +
+                   graph::format_number(object.voxel_size) + " m");
         try {
             out.cracks.push_back(planar_disk_crack(centre, normal, radius, object.voxel_size, object.half_width));
         } catch (const std::invalid_argument& e) {

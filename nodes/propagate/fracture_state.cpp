@@ -1,5 +1,7 @@
 #include "nodes/propagate/fracture_state.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <algorithm>
 #include <map>
 #include <stdexcept>
@@ -16,9 +18,9 @@ bool FractureState::has_active_markers() const {
 }
 
 FractureState start_fracture_state(double r_c, double r_f, double half_width, std::size_t surface_elements) {
-    if (!(r_f > 0)) throw std::invalid_argument("r_f (level-set voxel size) must be > 0 m, got " + std::to_string(r_f));
+    if (!(r_f > 0)) throw std::invalid_argument("r_f (level-set voxel size) must be > 0 m, got " + graph::format_number(r_f));
     if (!(r_c > r_f))
-        throw std::invalid_argument("r_c (" + std::to_string(r_c) + " m) must be larger than r_f (" + std::to_string(r_f) +
+        throw std::invalid_argument("r_c (" + graph::format_number(r_c) + " m) must be larger than r_f (" + graph::format_number(r_f) +
                                     " m): the crack front is resolved finer than the BEM mesh (ratio 20-50 in the thesis)");
     FractureState s;
     s.r_c = r_c;

@@ -1,5 +1,6 @@
 #include "nodes/propagate/fracture_step.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "nodes/propagate/opening_estimate.hpp"
 
 #include <tbb/parallel_for.h>
@@ -110,8 +111,8 @@ StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdge
     if (!toughness.source) throw std::invalid_argument("propagate_step: no toughness field");
     const double r_c = state.r_c, r_f = state.r_f;
     if (!(r_f > 0) || !(r_c > r_f))
-        throw std::invalid_argument("propagate_step: the state needs 0 < r_f < r_c (got r_f = " + std::to_string(r_f) +
-                                    " m, r_c = " + std::to_string(r_c) + " m)");
+        throw std::invalid_argument("propagate_step: the state needs 0 < r_f < r_c (got r_f = " + graph::format_number(r_f) +
+                                    " m, r_c = " + graph::format_number(r_c) + " m)");
     PropagationSettings law = settings.law;
     law.r_c = r_c;
     law.r_f = r_f;

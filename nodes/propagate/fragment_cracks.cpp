@@ -1,5 +1,6 @@
 #include "nodes/propagate/fragment_cracks.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "nodes/bem/element_geometry.hpp"
 #include "nodes/bem/surface_intersection.hpp"
 #include "nodes/domain/mesh_topology.hpp"
@@ -273,8 +274,8 @@ FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet&
     if (fragment.empty())
         throw std::invalid_argument("fragment level set is empty: pass the fragment's grid from segment.fragments");
     if (!(std::abs(fragment.voxel_size - r_f) <= 1e-9 * r_f))
-        throw std::invalid_argument("fragment level set has voxel size " + std::to_string(fragment.voxel_size) +
-                                    " m but the parent's cracks were recorded at r_f = " + std::to_string(r_f) +
+        throw std::invalid_argument("fragment level set has voxel size " + graph::format_number(fragment.voxel_size) +
+                                    " m but the parent's cracks were recorded at r_f = " + graph::format_number(r_f) +
                                     " m: segment the parent's broken object, do not resample it");
     const MeshTopologyReport topo = check_topology(surface);
     if (!topo.is_closed_manifold() || !(signed_volume(surface) > 0))
@@ -283,7 +284,7 @@ FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet&
     const double clearance = fragment_crack_clearance(parent.r_c, r_f, settings);
     if (!(clearance >= 0) || !std::isfinite(clearance))
         throw std::invalid_argument("fragment crack clearance must be a finite distance >= 0 m, got " +
-                                    std::to_string(clearance));
+                                    graph::format_number(clearance));
 
     // 1. The mask, then the manifold closure.
     const SurfaceMesh& pc = parent.cracks;

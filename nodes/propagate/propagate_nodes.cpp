@@ -1,6 +1,7 @@
 // Node adapters of the fracture loop (thesis ch. 4.1, 4.5): fracture.start (the loop's initial
 // state), propagate.fronts (one BEM time step of crack-front propagation with recording and
 // BEM mesh growth) and fracture.geometry (the state's crack sheets and grids for other stages).
+#include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/domain/material.hpp"
@@ -84,8 +85,8 @@ graph::NodeType fronts_node() {
         set.crack_margin = c.real("crack_margin") * s.r_f;
         const LevelSet* object = c.has("object") ? &c.in<LevelSet>("object") : nullptr;
         if (object && std::abs(object->voxel_size - s.r_f) > 1e-9 * s.r_f)
-            c.fail("input 'object' has voxel size " + std::to_string(object->voxel_size) + " m but the state was started with r_f = " +
-                   std::to_string(s.r_f) + " m; use the same level set for fracture.start and propagate.fronts");
+            c.fail("input 'object' has voxel size " + graph::format_number(object->voxel_size) + " m but the state was started with r_f = " +
+                   graph::format_number(s.r_f) + " m; use the same level set for fracture.start and propagate.fronts");
         propagate::SubstepObserver observer;
         const int step = s.step;
         if (c.boolean("write_substep_vdb")) {

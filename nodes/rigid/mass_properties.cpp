@@ -1,5 +1,7 @@
 #include "nodes/rigid/mass_properties.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <stdexcept>
@@ -8,7 +10,7 @@
 namespace cf::rigid {
 
 MassProperties mass_properties(const SurfaceMesh& mesh, double density) {
-    if (!(density > 0)) throw std::invalid_argument("density must be positive [kg/m^3], got " + std::to_string(density));
+    if (!(density > 0)) throw std::invalid_argument("density must be positive [kg/m^3], got " + graph::format_quantity(density, "kg/m^3"));
     if (mesh.triangles.empty()) throw std::invalid_argument("the body mesh has no triangles");
     // Reference point inside the vertex cloud keeps the tetrahedra small (no cancellation of large terms).
     Vec3 p = Vec3::Zero();
@@ -26,7 +28,7 @@ MassProperties mass_properties(const SurfaceMesh& mesh, double density) {
         second += vt / 20 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
     }
     if (!(V > 0))
-        throw std::invalid_argument("the body mesh encloses a non-positive volume (" + std::to_string(V) +
+        throw std::invalid_argument("the body mesh encloses a non-positive volume (" + graph::format_number(V) +
                                     " m^3): it must be closed and face outward");
     MassProperties m;
     m.volume = V;

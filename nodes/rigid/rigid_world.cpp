@@ -1,5 +1,7 @@
 #include "nodes/rigid/rigid_world.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
@@ -74,7 +76,7 @@ int RigidWorld::add_body(const BodySpec& s) {
     try {
         mp = s.mass ? *s.mass : mass_properties(s.mesh, s.density);
         if (!(mp.mass > 0) || !mp.principal_moments.allFinite() || !(mp.principal_moments.minCoeff() > 0))
-            throw std::invalid_argument("mass " + std::to_string(mp.mass) + " kg and principal moments must be positive");
+            throw std::invalid_argument("mass " + graph::format_number(mp.mass) + " kg and principal moments must be positive");
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument("body '" + s.name + "': " + e.what());
     }

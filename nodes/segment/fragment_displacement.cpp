@@ -1,5 +1,6 @@
 #include "nodes/segment/fragment_displacement.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "nodes/bem/interior_evaluation.hpp"
 #include "nodes/bem/solver.hpp"
 
@@ -137,9 +138,9 @@ FragmentDeformation::FragmentDeformation(std::shared_ptr<const CoarseDisplacemen
     m.cracks = cracks;
     m.r_f = r_f;
     m.h = crack_half_thickness(r_f);
-    if (!(r_f > 0)) throw std::invalid_argument("fragment deformation: voxel size r_f = " + std::to_string(r_f) + " m must be positive");
+    if (!(r_f > 0)) throw std::invalid_argument("fragment deformation: voxel size r_f = " + graph::format_number(r_f) + " m must be positive");
     if (!(options.scale >= 0) || !std::isfinite(options.scale))
-        throw std::invalid_argument("displacement scale " + std::to_string(options.scale) + " must be finite and >= 0");
+        throw std::invalid_argument("displacement scale " + graph::format_number(options.scale) + " must be finite and >= 0");
     const bool displace = options.mode != DisplacementMode::none;
     const bool open = options.mode == DisplacementMode::continuous_and_opening;
     if (displace && !m.coarse)
@@ -149,15 +150,15 @@ FragmentDeformation::FragmentDeformation(std::shared_ptr<const CoarseDisplacemen
                                     " needs the recorded crack grids (CrackLevelSets)");
     if (cracks) {
         if (std::abs(cracks->voxel_size - r_f) > 1e-9 * r_f)
-            throw std::invalid_argument("crack grids have voxel size " + std::to_string(cracks->voxel_size) +
-                                        " m but the fragments " + std::to_string(r_f) + " m; record the cracks at the fragments' r_f");
+            throw std::invalid_argument("crack grids have voxel size " + graph::format_number(cracks->voxel_size) +
+                                        " m but the fragments " + graph::format_number(r_f) + " m; record the cracks at the fragments' r_f");
         for (std::size_t c = 0; c < cracks->cracks.size(); ++c) {
             if (cracks->cracks[c].empty()) throw std::invalid_argument("crack grid " + std::to_string(c) + " is empty");
             m.crack_boxes.push_back(active_bounding_box(cracks->cracks[c]));
         }
     }
     if (open && !(options.opening_band > 1))
-        throw std::invalid_argument("opening band " + std::to_string(options.opening_band) +
+        throw std::invalid_argument("opening band " + graph::format_number(options.opening_band) +
                                     " voxels must exceed 1 voxel (the crack's half thickness is 0.87 voxels)");
     if (!(options.gap_tolerance > 0)) throw std::invalid_argument("gap tolerance must be positive");
     if (!displace) return;

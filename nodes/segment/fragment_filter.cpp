@@ -1,6 +1,8 @@
 // Dropping speck fragments below a volume (segment.fragments' min_volume).
 #include "nodes/segment/fragments.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -9,7 +11,7 @@ namespace cf {
 
 std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume) {
     if (!(min_volume >= 0) || !std::isfinite(min_volume))
-        throw std::invalid_argument("minimum fragment volume " + std::to_string(min_volume) +
+        throw std::invalid_argument("minimum fragment volume " + graph::format_number(min_volume) +
                                     " m^3 must be finite and >= 0 (0 keeps every fragment)");
     std::size_t removed = 0;
     std::vector<Fragment> kept;

@@ -1,4 +1,5 @@
 // Node adapters for nodes/segment: segment.fragments (ch. 6.3) and export.fragments (ch. 6.4).
+#include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
 #include "nodes/registration.hpp"
@@ -39,7 +40,7 @@ graph::NodeType fragments_node() {
             const LevelSet broken =
                 c.has("cracks") ? broken_object(object, c.in<CrackLevelSets>("cracks")) : object;
             const double s = c.real("s");
-            if (s < 0 && s != -1) c.fail("parameter 's': " + std::to_string(s) + " m is negative; use -1 for s = r_f or a value in [0, r_f]");
+            if (s < 0 && s != -1) c.fail("parameter 's': " + graph::format_number(s) + " m is negative; use -1 for s = r_f or a value in [0, r_f]");
             f = find_fragments(broken, SegmentOptions{s, c.boolean("tiles")});
             double dropped_volume = 0;
             c.count("dropped_fragments", double(drop_small_fragments(f, c.real("min_volume"), &dropped_volume)));

@@ -4,6 +4,7 @@
 // are the smallest items of their components, then each fragment grid built block by block.
 #include "nodes/segment/fragments.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "nodes/levelset/level_set_grid.hpp"
 
 #include <openvdb/tools/Composite.h>
@@ -41,8 +42,8 @@ LevelSet broken_object(const LevelSet& object, const CrackLevelSets& cracks) {
         if (ls.empty() || grid_of(ls).activeVoxelCount() == 0)
             throw std::invalid_argument(name + " is empty (no voxels recorded); remove it or record its front first");
         if (std::abs(ls.voxel_size - object.voxel_size) > 1e-9 * object.voxel_size)
-            throw std::invalid_argument(name + " has voxel size " + std::to_string(ls.voxel_size) +
-                                        " m but the object has " + std::to_string(object.voxel_size) +
+            throw std::invalid_argument(name + " has voxel size " + graph::format_number(ls.voxel_size) +
+                                        " m but the object has " + graph::format_number(object.voxel_size) +
                                         " m; build both with the same r_f");
         if (!obox.hasOverlap(grid_of(ls).evalActiveVoxelBoundingBox()))
             throw std::invalid_argument(name + " lies entirely outside the object; move it inside or remove it");

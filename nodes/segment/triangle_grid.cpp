@@ -1,5 +1,7 @@
 #include "nodes/segment/triangle_grid.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -16,7 +18,7 @@ constexpr std::int64_t kIndexLimit = std::int64_t(1) << 20;  // 21 bits per axis
 TriangleGrid::TriangleGrid(std::vector<Triangle3> triangles, double cell_size, double max_cell_entries)
     : triangles_(std::move(triangles)), cell_(cell_size) {
     if (!(cell_size > 0) || !std::isfinite(cell_size))
-        throw std::invalid_argument("triangle grid: cell size " + std::to_string(cell_size) + " m must be positive");
+        throw std::invalid_argument("triangle grid: cell size " + graph::format_number(cell_size) + " m must be positive");
     std::vector<std::array<Cell, 2>> ranges(triangles_.size());
     double entries = 0;
     for (std::size_t t = 0; t < triangles_.size(); ++t) {
@@ -26,7 +28,7 @@ TriangleGrid::TriangleGrid(std::vector<Triangle3> triangles, double cell_size, d
         const Vec3 lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]), hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
         if ((lo / cell_).cwiseAbs().maxCoeff() >= double(kIndexLimit) || (hi / cell_).cwiseAbs().maxCoeff() >= double(kIndexLimit))
             throw std::invalid_argument("triangle grid: triangle " + std::to_string(t) + " lies more than 2^20 cells of " +
-                                        std::to_string(cell_) + " m from the origin; use a larger cell size");
+                                        graph::format_number(cell_) + " m from the origin; use a larger cell size");
         ranges[t] = {cell_of(lo), cell_of(hi)};
         double n = 1;
         for (int a = 0; a < 3; ++a) n *= double(ranges[t][1][a] - ranges[t][0][a] + 1);
@@ -34,8 +36,8 @@ TriangleGrid::TriangleGrid(std::vector<Triangle3> triangles, double cell_size, d
     }
     if (entries > max_cell_entries)
         throw std::invalid_argument("triangle grid: " + std::to_string(triangles_.size()) + " triangles would fill " +
-                                    std::to_string(entries) + " cell lists (limit " + std::to_string(max_cell_entries) +
-                                    "); the cell size " + std::to_string(cell_) + " m is far smaller than the triangles");
+                                    graph::format_number(entries) + " cell lists (limit " + graph::format_number(max_cell_entries) +
+                                    "); the cell size " + graph::format_number(cell_) + " m is far smaller than the triangles");
     for (int a = 0; a < 3; ++a) {
         lo_[a] = std::numeric_limits<std::int64_t>::max();
         hi_[a] = std::numeric_limits<std::int64_t>::min();

@@ -1,5 +1,7 @@
 #include "nodes/shape/box.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <array>
 #include <unordered_map>
 #include <stdexcept>
@@ -10,7 +12,7 @@ SurfaceMesh make_box(const BoxSpec& spec) {
     for (int a = 0; a < 3; ++a)
         if (!(spec.size[a] > 0))
             throw std::invalid_argument("parameter 'size': every edge length must be > 0 m, got " +
-                                        std::to_string(spec.size[a]) + " for axis " + "xyz"[a]);
+                                        graph::format_quantity(spec.size[a], "m") + " for axis " + "xyz"[a]);
     if (spec.subdivisions < 1)
         throw std::invalid_argument("parameter 'subdivisions' must be >= 1, got " + std::to_string(spec.subdivisions));
 

@@ -1,5 +1,7 @@
 #include "nodes/shape/cylinder.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -13,8 +15,8 @@ void require(bool ok, const std::string& message) {
 }  // namespace
 
 SurfaceMesh make_cylinder(const CylinderSpec& spec) {
-    require(spec.radius > 0, "parameter 'radius' must be > 0 m, got " + std::to_string(spec.radius));
-    require(spec.height > 0, "parameter 'height' must be > 0 m, got " + std::to_string(spec.height));
+    require(spec.radius > 0, "parameter 'radius' must be > 0 m, got " + graph::format_quantity(spec.radius, "m"));
+    require(spec.height > 0, "parameter 'height' must be > 0 m, got " + graph::format_quantity(spec.height, "m"));
     require(spec.segments >= 3, "parameter 'segments' must be >= 3, got " + std::to_string(spec.segments));
     require(spec.rings >= 1, "parameter 'rings' must be >= 1, got " + std::to_string(spec.rings));
     require(spec.cap_rings >= 1, "parameter 'cap_rings' must be >= 1, got " + std::to_string(spec.cap_rings));

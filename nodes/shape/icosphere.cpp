@@ -1,5 +1,7 @@
 #include "nodes/shape/icosphere.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -58,7 +60,7 @@ int icosphere_level_for(double target_triangles) {
 
 SurfaceMesh make_icosphere(const SphereSpec& spec) {
     if (!(spec.radius > 0))
-        throw std::invalid_argument("parameter 'radius' must be > 0 m, got " + std::to_string(spec.radius));
+        throw std::invalid_argument("parameter 'radius' must be > 0 m, got " + graph::format_quantity(spec.radius, "m"));
     if (spec.level < 0 || spec.level > max_icosphere_level)
         throw std::invalid_argument("subdivision level must be in [0, " + std::to_string(max_icosphere_level) +
                                     "], got " + std::to_string(spec.level));

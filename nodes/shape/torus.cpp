@@ -1,5 +1,7 @@
 #include "nodes/shape/torus.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -21,10 +23,10 @@ double angle_between(double a, double b) {
 
 SurfaceMesh make_torus(const TorusSpec& spec) {
     const double pi = std::acos(-1.0);
-    require(spec.minor_radius > 0, "parameter 'minor_radius' must be > 0 m, got " + std::to_string(spec.minor_radius));
+    require(spec.minor_radius > 0, "parameter 'minor_radius' must be > 0 m, got " + graph::format_number(spec.minor_radius));
     require(spec.major_radius > spec.minor_radius,
-            "parameter 'major_radius' (" + std::to_string(spec.major_radius) +
-                " m) must exceed 'minor_radius' (" + std::to_string(spec.minor_radius) +
+            "parameter 'major_radius' (" + graph::format_number(spec.major_radius) +
+                " m) must exceed 'minor_radius' (" + graph::format_number(spec.minor_radius) +
                 " m), otherwise the tube intersects itself");
     require(spec.major_segments >= 4 && spec.major_segments % 2 == 0,
             "parameter 'major_segments' must be even and >= 4 (so the left and right pulled faces are mirror "
@@ -36,8 +38,8 @@ SurfaceMesh make_torus(const TorusSpec& spec) {
     // The quad centres nearest the pulled directions are half a segment away from them.
     const double needed = std::max(pi / spec.major_segments, pi / spec.minor_segments);
     require(spec.pull_angle >= needed && spec.pull_angle < 0.5 * pi,
-            "parameter 'pull_angle' must be in [" + std::to_string(needed) + ", pi/2) rad for these segment counts "
-            "(a smaller angle selects no quad centre), got " + std::to_string(spec.pull_angle));
+            "parameter 'pull_angle' must be in [" + graph::format_number(needed) + ", pi/2) rad for these segment counts "
+            "(a smaller angle selects no quad centre), got " + graph::format_quantity(spec.pull_angle, "rad"));
 
     enum { rest = 0, pull_left = 1, pull_right = 2 };
     const int nu = spec.major_segments, nv = spec.minor_segments;

@@ -1,5 +1,6 @@
 #include "nodes/simplify/remesh.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/simplify/degenerate_cleanup.hpp"
 #include "nodes/simplify/mesh_repair.hpp"
@@ -135,7 +136,7 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt) {
     if (opt.target_triangles < 4)
         throw std::invalid_argument("target triangle count must be at least 4, got " + std::to_string(opt.target_triangles));
     if (!(opt.offset_voxels >= 0))
-        throw std::invalid_argument("offset must be a non-negative number of voxels, got " + std::to_string(opt.offset_voxels));
+        throw std::invalid_argument("offset must be a non-negative number of voxels, got " + graph::format_number(opt.offset_voxels));
     RemeshResult res;
     SurfaceMesh dense = without_unused_vertices(level_set_to_mesh(object, opt.adaptivity));
     res.dense_triangles = dense.num_triangles();

@@ -123,3 +123,14 @@ TEST(FractureInputs, UnphysicalMaterialValuesAreRejectedWithTheirUnit) {
                                       "    params: {E: 3e9, nu: 0.3, rho: 1e9, tensile_strength: 7.6e7, toughness: 1e6, compressive_factor: 2}\n");
     EXPECT_NE(r.find("'rho'"), std::string::npos) << r;
 }
+
+TEST(FractureInputs, MessagesShowTheDigitsOfTheGivenNumbers) {
+    // r_c = 2.9499e-4 m below r_f = 2.95e-4 m: %f printed both as 0.000295, which read as equal.
+    try {
+        propagate::start_fracture_state(2.9499e-4, 2.95e-4, 3, 12);
+        FAIL() << "r_c < r_f accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("r_c (0.00029499 m) must be larger than r_f (0.000295 m)"), std::string::npos)
+            << e.what();
+    }
+}

@@ -63,7 +63,7 @@ TEST(Box, BadSpecsAreRejectedNamingTheParameter) {
         make_box(s);
         FAIL() << "expected an error";
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "parameter 'size': every edge length must be > 0 m, got 0.000000 for axis y");
+        EXPECT_STREQ(e.what(), "parameter 'size': every edge length must be > 0 m, got 0 m for axis y");
     }
     s.size = Vec3(1, 1, 1);
     s.subdivisions = 0;

@@ -115,12 +115,12 @@ TEST(Torus, BadSpecsAreRejected) {
                           "mirror images), got 25");
     s = TorusSpec{};
     s.minor_radius = 0.05;
-    EXPECT_EQ(message(s), "parameter 'major_radius' (0.040000 m) must exceed 'minor_radius' (0.050000 m), otherwise "
+    EXPECT_EQ(message(s), "parameter 'major_radius' (0.04 m) must exceed 'minor_radius' (0.05 m), otherwise "
                           "the tube intersects itself");
     s = TorusSpec{};
     s.pull_angle = 0.1;  // below pi/12 = half a minor segment
-    EXPECT_EQ(message(s), "parameter 'pull_angle' must be in [0.261799, pi/2) rad for these segment counts (a smaller "
-                          "angle selects no quad centre), got 0.100000");
+    EXPECT_EQ(message(s), "parameter 'pull_angle' must be in [0.2617993877991494, pi/2) rad for these segment counts (a "
+                          "smaller angle selects no quad centre), got 0.1 rad");
 }
 
 }  // namespace
