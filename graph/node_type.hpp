@@ -49,6 +49,10 @@ public:
     ParamDecl& param_reals(std::string name, std::vector<double> def, std::string unit, std::string doc);
 
     NodeType& run(RunFn fn) { run_ = std::move(fn); return *this; }
+    // A construct the executor runs itself (only `loop`, graph/loop_type.hpp): no run function, and
+    // its ports are patterns named by each pipeline. Declared so that validation and docs use it.
+    NodeType& executor_construct() { construct_ = true; return *this; }
+    bool is_executor_construct() const { return construct_; }
 
     const std::string& name() const { return name_; }
     const std::string& doc() const { return doc_; }
@@ -67,6 +71,7 @@ private:
     std::vector<PortDecl> inputs_, outputs_;
     std::vector<ParamDecl> params_;
     RunFn run_;
+    bool construct_ = false;
 };
 
 }  // namespace cf::graph

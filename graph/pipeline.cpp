@@ -1,5 +1,7 @@
 #include "graph/pipeline.hpp"
 
+#include "graph/loop_type.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -21,8 +23,7 @@ int Plan::find(const std::string& name) const {
 
 namespace {
 
-const char* const kLoopType = "loop";
-const char* const kMaxIterations = "max_iterations";
+const char* const kLoopType = kLoopTypeName;
 
 // A node entry as written, before type checking.
 struct RawNode {
@@ -63,6 +64,8 @@ private:
     void read_nodes(const YAML::Node& map, int body_of);
     void apply_override(const Override& o);
     std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node, const SourceLoc& l);
+    // A node's parameters converted by its type's declarations, defaults for the rest.
+    void read_params(const NodeType& t, const RawNode& r, std::map<std::string, ParamValue>& out);
     // scope: the loop whose body the reader sits in (-1 outside); -2 means the consumer's own.
     std::optional<PlanInput> resolve_source(const YAML::Node& src, int consumer, const std::string& what, int scope = -2);
     std::vector<std::string> all_names() const {
@@ -165,6 +168,28 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
             else
                 read_nodes(body, self);
         }
+    }
+}
+
+void Loader::read_params(const NodeType& t, const RawNode& r, std::map<std::string, ParamValue>& out) {
+    for (const auto& prm : r.params) {
+        const ParamDecl* d = t.find_param(prm.name);
+        if (!d) {
+            std::vector<std::string> names;
+            for (const auto& pd : t.params()) names.push_back(pd.name);
+            error(prm.key_loc, "unknown parameter '" + prm.name + "' for node '" + r.name + "' (" + r.type + ")",
+                  did_you_mean(prm.name, names));
+            continue;
+        }
+        if (auto val = convert(*d, prm.value, r.name, prm.value_loc)) out[prm.name] = *val;
+    }
+    for (const auto& d : t.params()) {
+        bool given = false;
+        for (const auto& prm : r.params) given = given || prm.name == d.name;
+        if (given) continue;
+        if (d.default_value) out[d.name] = *d.default_value;
+        else error(r.loc, "node '" + r.name + "' (" + r.type + ") is missing required parameter '" + d.name + "'",
+                   d.doc + (d.unit.empty() ? "" : " [" + d.unit + "]"));
     }
 }
 
@@ -410,20 +435,11 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
         p.loc = r.loc;
         p.body_of = r.body_of;
         if (r.type == kLoopType) {
-            p.max_iterations = 100;
-            for (auto& prm : r.params) {
-                if (prm.name != kMaxIterations) {
-                    error(prm.key_loc, "unknown parameter '" + prm.name + "' of loop '" + r.name + "'", did_you_mean(prm.name, {kMaxIterations}));
-                    continue;
-                }
-                ParamDecl d;
-                d.name = kMaxIterations;
-                d.kind = ParamKind::Int;
-                d.min = 1;
-                d.max = 1e9;
-                d.doc = "the most iterations the loop runs";
-                if (auto val = convert(d, prm.value, r.name, prm.value_loc)) p.max_iterations = std::get<long long>(*val);
-            }
+            // Declared in the registry like every node type (graph/loop_type.cpp); the plan keeps
+            // max_iterations apart from params, where the executor and the scene runner read it.
+            std::map<std::string, ParamValue> params;
+            read_params(*reg_.find(kLoopType), r, params);
+            if (auto it = params.find(kMaxIterationsParam); it != params.end()) p.max_iterations = std::get<long long>(it->second);
             continue;
         }
         p.type = reg_.find(r.type);
@@ -432,25 +448,7 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
                   did_you_mean(r.type, reg_.names()) + " (`crackflow nodes` lists all types)");
             continue;
         }
-        for (auto& prm : r.params) {
-            const ParamDecl* d = p.type->find_param(prm.name);
-            if (!d) {
-                std::vector<std::string> names;
-                for (const auto& pd : p.type->params()) names.push_back(pd.name);
-                error(prm.key_loc, "unknown parameter '" + prm.name + "' for node '" + r.name + "' (" + r.type + ")",
-                      did_you_mean(prm.name, names));
-                continue;
-            }
-            if (auto val = convert(*d, prm.value, r.name, prm.value_loc)) p.params[prm.name] = *val;
-        }
-        for (const auto& d : p.type->params()) {
-            bool given = false;
-            for (auto& prm : r.params) given = given || prm.name == d.name;
-            if (given) continue;
-            if (d.default_value) p.params[d.name] = *d.default_value;
-            else error(r.loc, "node '" + r.name + "' (" + r.type + ") is missing required parameter '" + d.name + "'",
-                       d.doc + (d.unit.empty() ? "" : " [" + d.unit + "]"));
-        }
+        read_params(*p.type, r, p.params);
     }
 
     // Loop variables first (their types come from the initial values), then every input.

@@ -11,7 +11,11 @@ namespace cf::graph {
 
 class NodeRegistry {
 public:
-    // Throws std::logic_error on a duplicate or malformed name (must be dotted: stage.name).
+    // Holds the built-in `loop` (graph/loop_type.hpp) from the start: the pipeline loader reads
+    // its parameters from the registry like any node type's.
+    NodeRegistry();
+    // Throws std::logic_error on a duplicate or malformed name (must be dotted: stage.name; only
+    // executor constructs such as `loop` are not).
     void add(NodeType type);
     const NodeType* find(std::string_view name) const;
     std::vector<const NodeType*> all() const;  // sorted by name

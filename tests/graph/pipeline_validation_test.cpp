@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 using namespace cf::graph;
 
 namespace {
@@ -213,4 +215,52 @@ TEST(PipelineValidation, LoopNeedsNextForEveryVariableAndBoolWhile) {
 )", diags);
     EXPECT_TRUE(has(diags, "gives no next value for variable 'm'")) << all(diags);
     EXPECT_TRUE(has(diags, "'while' must be Bool, got Real")) << all(diags);
+}
+
+// `loop` is declared in the registry like every node type: its parameters are validated from
+// that declaration (range, unknown names with a suggestion), and it is listed with the others.
+TEST(PipelineValidation, LoopIsDeclaredLikeEveryNodeType) {
+    const NodeType* loop = test_registry().find("loop");
+    ASSERT_NE(loop, nullptr);
+    EXPECT_TRUE(loop->is_executor_construct());
+    const ParamDecl* max = loop->find_param("max_iterations");
+    ASSERT_NE(max, nullptr);
+    EXPECT_EQ(std::get<long long>(*max->default_value), 100);
+    EXPECT_EQ(max->describe_range(), "[1, 1000000000]");
+    EXPECT_NE(loop->find_output("final.VAR"), nullptr);
+    const auto names = test_registry().names();
+    EXPECT_NE(std::find(names.begin(), names.end(), "loop"), names.end());
+
+    const std::string body = R"(nodes:
+  zero: {type: core.real}
+  count:
+    type: loop
+    params: {PARAMS}
+    inputs: {n: zero.value}
+    body:
+      inc: {type: core.add, inputs: {a: count.n, b: count.n}}
+    next: {n: inc.sum}
+)";
+    const auto with = [&](const std::string& params) {
+        std::string text = body;
+        text.replace(text.find("PARAMS"), 6, params);
+        return text;
+    };
+    std::vector<Diagnostic> diags;
+    const Plan plan = load_text(with("max_iterations: 7"), diags);
+    ASSERT_TRUE(diags.empty()) << all(diags);
+    EXPECT_EQ(plan.nodes[plan.find("count")].max_iterations, 7);
+    EXPECT_TRUE(plan.nodes[plan.find("count")].params.empty());  // report.json writes max_iterations once
+
+    diags.clear();
+    const Plan defaults = load_text(with(""), diags);
+    ASSERT_TRUE(diags.empty()) << all(diags);
+    EXPECT_EQ(defaults.nodes[defaults.find("count")].max_iterations, 100);
+
+    diags.clear();
+    load_text(with("max_iterations: 0, max_iteration: 3"), diags);
+    EXPECT_TRUE(has(diags, "value 0 is outside the allowed range [1, 1000000000]", 5)) << all(diags);
+    EXPECT_TRUE(has(diags, "unknown parameter 'max_iteration' for node 'count' (loop)", 5)) << all(diags);
+    EXPECT_TRUE(has(diags, "did you mean 'max_iterations'?")) << all(diags);
+    EXPECT_EQ(diags.size(), 2u) << all(diags);
 }
