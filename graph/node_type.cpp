@@ -1,8 +1,27 @@
 #include "graph/node_type.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace cf::graph {
+
+NodeType& NodeType::input_needed_when(std::string input, std::string param, std::vector<std::string> values,
+                                       std::string why) {
+    const PortDecl* in = find_input(input);
+    if (!in || !in->optional)
+        throw std::logic_error("node type " + name_ + ": rule for '" + input + "', which is not an optional input");
+    const ParamDecl* p = find_param(param);
+    if (!p) throw std::logic_error("node type " + name_ + ": rule for '" + input + "' names no parameter '" + param + "'");
+    if (p->kind != ParamKind::Bool && p->kind != ParamKind::Choice)
+        throw std::logic_error("node type " + name_ + ": rule for '" + input + "': '" + param + "' is not a Bool or Choice parameter");
+    for (const std::string& v : values) {
+        const bool ok = p->kind == ParamKind::Bool ? v == "true" || v == "false"
+                                                   : std::find(p->choices.begin(), p->choices.end(), v) != p->choices.end();
+        if (!ok) throw std::logic_error("node type " + name_ + ": rule for '" + input + "': '" + v + "' is no value of '" + param + "'");
+    }
+    input_rules_.push_back({std::move(input), std::move(param), std::move(values), std::move(why)});
+    return *this;
+}
 
 ParamDecl& NodeType::add_param(ParamDecl p) {
     if (find_param(p.name)) throw std::logic_error("node type " + name_ + ": duplicate parameter " + p.name);

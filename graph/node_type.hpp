@@ -12,6 +12,17 @@ namespace cf::graph {
 
 class NodeContext;
 
+// A dependency between a parameter and an optional input, declared beside the ports: the input is
+// needed when the parameter has one of `values` (as format_param_value prints them: "true", a
+// choice). The pipeline loader checks it, so `crackflow validate` names FILE:LINE before a run
+// instead of the node failing at the end of it; docs/nodes.md lists it.
+struct InputRule {
+    std::string input;                // an optional input of the node type
+    std::string param;                // the parameter that decides
+    std::vector<std::string> values;  // the parameter's values that need the input
+    std::string why;                  // what the input is used for, one line
+};
+
 struct PortDecl {
     std::string name;
     TypeId type;
@@ -48,6 +59,11 @@ public:
     ParamDecl& param_choice(std::string name, std::string def, std::vector<std::string> choices, std::string doc);
     ParamDecl& param_reals(std::string name, std::vector<double> def, std::string unit, std::string doc);
 
+    // Declares that `input` (an optional input) must be connected when parameter `param` has one
+    // of `values`. Throws std::logic_error naming the type when the input, parameter or a value
+    // does not exist.
+    NodeType& input_needed_when(std::string input, std::string param, std::vector<std::string> values, std::string why);
+
     NodeType& run(RunFn fn) { run_ = std::move(fn); return *this; }
     // A construct the executor runs itself (only `loop`, graph/loop_type.hpp): no run function, and
     // its ports are patterns named by each pipeline. Declared so that validation and docs use it.
@@ -59,6 +75,7 @@ public:
     const std::vector<PortDecl>& inputs() const { return inputs_; }
     const std::vector<PortDecl>& outputs() const { return outputs_; }
     const std::vector<ParamDecl>& params() const { return params_; }
+    const std::vector<InputRule>& input_rules() const { return input_rules_; }
     const RunFn& run_fn() const { return run_; }
 
     const PortDecl* find_input(std::string_view n) const;
@@ -70,6 +87,7 @@ private:
     std::string name_, doc_;
     std::vector<PortDecl> inputs_, outputs_;
     std::vector<ParamDecl> params_;
+    std::vector<InputRule> input_rules_;
     RunFn run_;
     bool construct_ = false;
 };

@@ -64,6 +64,8 @@ private:
     void read_nodes(const YAML::Node& map, int body_of);
     void apply_override(const Override& o);
     std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node, const SourceLoc& l);
+    // The type's declared parameter/input rules (NodeType::input_needed_when) for node i.
+    void check_input_rules(std::size_t i);
     // A node's parameters converted by its type's declarations, defaults for the rest.
     void read_params(const NodeType& t, const RawNode& r, std::map<std::string, ParamValue>& out);
     // scope: the loop whose body the reader sits in (-1 outside); -2 means the consumer's own.
@@ -168,6 +170,25 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
             else
                 read_nodes(body, self);
         }
+    }
+}
+
+void Loader::check_input_rules(std::size_t i) {
+    const NodeType& t = *plan_[i].type;
+    for (const InputRule& rule : t.input_rules()) {
+        bool mentioned = false;
+        for (auto& [port, src] : raw_[i].inputs) mentioned = mentioned || port == rule.input;
+        const auto value = plan_[i].params.find(rule.param);
+        if (mentioned || value == plan_[i].params.end()) continue;
+        const std::string text = format_param_value(value->second);
+        if (std::find(rule.values.begin(), rule.values.end(), text) == rule.values.end()) continue;
+        SourceLoc where = raw_[i].loc;  // the parameter's value when the file (or --set) gives it
+        for (const auto& prm : raw_[i].params)
+            if (prm.name == rule.param) where = prm.value_loc;
+        error(where,
+              "parameter '" + rule.param + "' = " + text + " of node '" + raw_[i].name + "' (" + t.name() + ") needs the input '" +
+                  rule.input + "' (" + t.find_input(rule.input)->type.name + "), which is not connected",
+              "connect it: inputs: {" + rule.input + ": NODE.PORT} (" + rule.why + "), or change '" + rule.param + "'");
     }
 }
 
@@ -501,6 +522,7 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
                     error(raw_[i].loc, "required input '" + d.name + "' (" + d.type.name + ") of node '" + raw_[i].name + "' is not connected",
                           "add inputs: {" + d.name + ": NODE.PORT}; " + d.doc);
             }
+        check_input_rules(i);
     }
     // Loop next / while.
     for (std::size_t i = 0; i < raw_.size(); ++i) {

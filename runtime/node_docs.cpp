@@ -36,6 +36,15 @@ std::string nodes_markdown(const graph::NodeRegistry& registry) {
         };
         ports("Inputs", t->inputs(), true);
         ports("Outputs", t->outputs(), false);
+        if (!t->input_rules().empty()) {
+            o += "\n**Inputs needed by parameters** (checked by `crackflow validate`)\n\n";
+            for (const auto& r : t->input_rules()) {
+                std::string values;
+                for (std::size_t k = 0; k < r.values.size(); ++k)
+                    values += std::string(k ? (k + 1 == r.values.size() ? " or " : ", ") : "") + "`" + r.values[k] + "`";
+                o += "- `" + r.input + "` when `" + r.param + "` is " + values + ": " + r.why + "\n";
+            }
+        }
         if (!t->params().empty()) {
             o += "\n**Parameters**\n\n| name | type | default | unit | allowed | description |\n|---|---|---|---|---|---|\n";
             for (const auto& d : t->params())
@@ -60,6 +69,13 @@ std::string nodes_json(const graph::NodeRegistry& registry) {
         };
         ports("inputs", t->inputs());
         ports("outputs", t->outputs());
+        w.key("input_rules").begin_array();
+        for (const auto& r : t->input_rules()) {
+            w.begin_object().key("input").value(r.input).key("param").value(r.param).key("values").begin_array();
+            for (const auto& v : r.values) w.value(v);
+            w.end_array().key("why").value(r.why).end_object();
+        }
+        w.end_array();
         w.key("params").begin_array();
         for (const auto& d : t->params()) {
             w.begin_object().key("name").value(d.name).key("kind").value(graph::to_string(d.kind));

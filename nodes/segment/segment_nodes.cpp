@@ -104,6 +104,11 @@ graph::NodeType export_fragments_node() {
                   "preview: direction from the scene's centre to the camera (any length, not parallel to up)")
         .size(3);
     t.param_string("prefix", "fragment", "file name prefix");
+    t.input_needed_when("solution", "displacement", {"continuous", "continuous_and_opening"},
+                        "the BEM displacement that deforms the meshes");
+    t.input_needed_when("cracks", "displacement", {"continuous_and_opening"},
+                        "the fine crack surfaces decide which face of a crack a vertex is on");
+    t.input_needed_when("cracks", "close_gaps", {"true"}, "cut-face vertices move onto the recorded crack surfaces");
     t.output<std::string>("directory", "the directory the files were written to");
     t.run([](graph::NodeContext& c) {
         FragmentExportOptions o;

@@ -264,3 +264,53 @@ TEST(PipelineValidation, LoopIsDeclaredLikeEveryNodeType) {
     EXPECT_TRUE(has(diags, "did you mean 'max_iterations'?")) << all(diags);
     EXPECT_EQ(diags.size(), 2u) << all(diags);
 }
+
+// A parameter value that needs an optional input is reported at the parameter's FILE:LINE by
+// validation, not by the node at run time.
+TEST(PipelineValidation, InputsNeededByParametersAreCheckedBeforeARun) {
+    std::vector<Diagnostic> diags;
+    load_text(R"(nodes:
+  v: {type: core.real, params: {value: 1}}
+  a: {type: test.sink, params: {mode: scaled}}
+  b: {type: test.sink, inputs: {value: v.value}, params: {mode: plain, write: true}}
+  c: {type: test.sink, params: {mode: off}}
+  d: {type: test.sink,
+      params: {write: true}}
+  e: {type: test.sink, params: {mode: plain}, inputs: {value: v.valu}}
+)", diags);
+    const std::string text = all(diags);
+    EXPECT_TRUE(has(diags, "test.yaml:3:", 3)) << text;
+    EXPECT_TRUE(has(diags, "error: parameter 'mode' = scaled of node 'a' (test.sink) needs the input 'value' (Real), which is "
+                           "not connected", 3)) << text;
+    EXPECT_TRUE(has(diags, "hint: connect it: inputs: {value: NODE.PORT} (the value to write), or change 'mode'")) << text;
+    EXPECT_TRUE(has(diags, "parameter 'write' = true of node 'd' (test.sink) needs the input 'value'", 7)) << text;
+    EXPECT_TRUE(has(diags, "has no output 'valu'", 8)) << text;  // a mistyped input is one error, not two
+    EXPECT_EQ(diags.size(), 3u) << text;
+
+    // An override that turns the option on is reported at the override.
+    LoadOptions set;
+    set.overrides.push_back({"c", "mode", "plain", SourceLoc{"--set", 1, 1}});
+    diags.clear();
+    load_text(R"(nodes:
+  c: {type: test.sink}
+)", diags, set);
+    EXPECT_EQ(diags.size(), 1u) << all(diags);
+    EXPECT_TRUE(has(diags, "--set:1:1: error: parameter 'mode' = plain of node 'c'")) << all(diags);
+}
+
+TEST(NodeType, RulesNameRealInputsParametersAndValues) {
+    const auto type = [] {
+        NodeType t("test.rules", "A node type for rule declarations.");
+        t.optional_input<double>("value", "optional");
+        t.input<double>("needed", "required");
+        t.param_choice("mode", "off", {"off", "on"}, "a choice");
+        t.param_real("scale", 1, "", "a number");
+        return t;
+    };
+    EXPECT_NO_THROW(type().input_needed_when("value", "mode", {"on"}, "why"));
+    EXPECT_THROW(type().input_needed_when("needed", "mode", {"on"}, "why"), std::logic_error);  // not optional
+    EXPECT_THROW(type().input_needed_when("nosuch", "mode", {"on"}, "why"), std::logic_error);
+    EXPECT_THROW(type().input_needed_when("value", "nosuch", {"on"}, "why"), std::logic_error);
+    EXPECT_THROW(type().input_needed_when("value", "mode", {"maybe"}, "why"), std::logic_error);
+    EXPECT_THROW(type().input_needed_when("value", "scale", {"1"}, "why"), std::logic_error);
+}

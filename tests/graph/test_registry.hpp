@@ -28,6 +28,16 @@ inline const cf::graph::NodeRegistry& test_registry() {
             t.run([](cf::graph::NodeContext& c) { c.out("blob", TestBlob{static_cast<int>(c.integer("n"))}); });
             r.add(std::move(t));
         }
+        {
+            cf::graph::NodeType t("test.sink", "Writes a value when 'write' is true (a parameter/input rule).");
+            t.optional_input<double>("value", "what is written");
+            t.param_choice("mode", "off", {"off", "plain", "scaled"}, "what to write");
+            t.param_bool("write", false, "write the value");
+            t.input_needed_when("value", "mode", {"plain", "scaled"}, "the value to write");
+            t.input_needed_when("value", "write", {"true"}, "the value to write");
+            t.run([](cf::graph::NodeContext&) {});
+            r.add(std::move(t));
+        }
         return r;
     }();
     return reg;

@@ -1,6 +1,8 @@
 // export.fragments through the per-node harness: the displacement options reach the mesh files
 // (compared with the plain FragmentDeformation on the same meshes), and a missing input is named.
 #include "graph/node_context.hpp"
+#include "graph/pipeline.hpp"
+#include "nodes/register_all.hpp"
 #include "nodes/import/read_mesh.hpp"
 #include "nodes/levelset/crack_grids.hpp"
 #include "nodes/segment/fragment_displacement.hpp"
@@ -10,7 +12,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 namespace cf::testing {
 namespace {
@@ -110,6 +115,34 @@ TEST(ExportFragmentsNode, PreviewCameraParametersAreChecked) {
                              {"up", std::vector<double>{0, 1, 0}}, {"view", std::vector<double>{0.9, 0.7, 1.2}}},
                             only_fragments, temp_dir("export-fragments-camera"));
     EXPECT_EQ(r.counts.at("files"), 1);
+}
+
+
+// The same rules are declared beside the ports, so validation names the parameter's FILE:LINE
+// before the fracture loop runs (they used to fail only at the end of the run).
+TEST(ExportFragmentsNode, ValidationNamesTheInputsTheDisplacementOptionsNeed) {
+    std::ifstream f(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/edge_crack_mode1.yaml");
+    ASSERT_TRUE(f);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    std::string text = ss.str();
+    const std::string plain = "params: {format: obj, adaptivity: 0.05, explode: 0.3}";
+    const std::size_t at = text.find(plain);
+    ASSERT_NE(at, std::string::npos);
+    const int line = 1 + int(std::count(text.begin(), text.begin() + long(at), '\n'));
+    text.replace(at, plain.size(), "params: {format: obj, displacement: continuous_and_opening, close_gaps: true}");
+    std::vector<graph::Diagnostic> diags;
+    graph::load_pipeline_text(text, "edge.yaml", node_registry(), {}, diags);
+    std::string all;
+    for (const auto& d : diags) all += graph::format(d) + "\n";
+    ASSERT_EQ(diags.size(), 3u) << all;
+    for (const auto& d : diags) EXPECT_EQ(d.loc.line, line) << all;
+    EXPECT_NE(all.find("parameter 'displacement' = continuous_and_opening of node 'export' (export.fragments) needs the "
+                       "input 'solution' (BemSolution)"), std::string::npos) << all;
+    EXPECT_NE(all.find("parameter 'displacement' = continuous_and_opening of node 'export' (export.fragments) needs the "
+                       "input 'cracks'"), std::string::npos) << all;
+    EXPECT_NE(all.find("parameter 'close_gaps' = true of node 'export' (export.fragments) needs the input 'cracks'"),
+              std::string::npos) << all;
 }
 
 }  // namespace
