@@ -1,5 +1,6 @@
 // crackflow: the command line. A thin main over the runtime library (cf. OpenVDB's vdb_tool).
 #include "nodes/register_all.hpp"
+#include "runtime/batch_command.hpp"
 #include "runtime/node_docs.hpp"
 #include "runtime/run_command.hpp"
 #include "runtime/verify_command.hpp"
@@ -42,6 +43,45 @@ int main(int argc, char** argv) {
     verify_cmd->add_option("--case", cases, "run only this case (repeatable)");
     verify_cmd->add_flag("--json", verify_json, "print only JSON on stdout");
 
+    cf::runtime::BatchRequest batch;
+    auto* batch_cmd = app.add_subcommand("batch", "run a manifest of pipeline runs (CSV/YAML rows) locally, as Slurm job arrays, "
+                                                  "or as commands for another farm manager (docs/batch.md)");
+    batch_cmd->add_option("manifest", batch.manifest, "manifest file (.csv or .yaml): id, pipeline and NODE.PARAM columns");
+    batch_cmd->add_option("--out", batch.out_dir, "output directory: one folder per row, DIR/<id>");
+    batch_cmd->add_option("--backend", batch.backend, "local (default) or slurm")->check(CLI::IsMember({"local", "slurm"}));
+    batch_cmd->add_option("--jobs,-j", batch.jobs, "local: rows run at once (default 1)")->check(CLI::Range(1, 4096));
+    batch_cmd->add_option("--threads", batch.threads, "threads per row (default: local: cores / jobs; slurm: --cpus-per-task)")
+        ->check(CLI::Range(1, 4096));
+    batch_cmd->add_flag("--fast", batch.fast, "run every row with its pipeline's fast: overrides");
+    batch_cmd->add_flag("--check", batch.check_only, "validate the manifest (every row against its pipeline) and stop");
+    batch_cmd->add_option("--emit-commands", batch.emit_commands,
+                          "write one shell command per row not yet complete to FILE ('-': stdout) for another farm manager");
+    batch_cmd->add_option("--collect", batch.collect_dir, "summarise the batch in DIR: DIR/summary.json and DIR/summary.csv");
+    batch_cmd->add_option("--partition", batch.slurm.partition, "slurm: partition");
+    batch_cmd->add_option("--time", batch.slurm.time, "slurm: time limit per task (sbatch --time, e.g. 2:00:00)");
+    batch_cmd->add_option("--mem", batch.slurm.mem, "slurm: memory per task (sbatch --mem, e.g. 8G)");
+    batch_cmd->add_option("--cpus-per-task", batch.slurm.cpus_per_task, "slurm: CPUs per task, also each row's --threads (default 1)")
+        ->check(CLI::Range(1, 4096));
+    batch_cmd->add_option("--max-parallel", batch.slurm.max_parallel, "slurm: tasks running at once (--array=...%P; default: no limit)")
+        ->check(CLI::Range(1, 1000000));
+    batch_cmd->add_option("--rows-per-task", batch.slurm.rows_per_task,
+                          "slurm: rows per array task (default: enough that ~1 s of task overhead stays below 5 % of the work)")
+        ->check(CLI::Range(1, 1000000));
+    batch_cmd->add_option("--row-seconds", batch.slurm.row_seconds,
+                          "slurm: estimated seconds per row for choosing rows per task before any row ran (default 60)")
+        ->check(CLI::PositiveNumber);
+    batch_cmd->add_option("--max-array-size", batch.slurm.max_array_size,
+                          "slurm: split arrays at this size (default: the cluster's MaxArraySize, else 1001)")
+        ->check(CLI::Range(1L, 100000000L));
+    batch_cmd->add_option("--sbatch-option", batch.slurm.sbatch_options, "slurm: pass an option to sbatch as it is (repeatable), "
+                                                                         "e.g. --sbatch-option=--account=vfx");
+    batch_cmd->add_flag("--wait", batch.slurm.wait, "slurm: wait for the array jobs, then write the summary");
+    batch_cmd->add_option("--row", batch.row, "run only this row (what an emitted command does)");
+    batch_cmd->add_option("--task-file", batch.task_file, "internal (Slurm job script): the rows of each task")->group("");
+    batch_cmd->add_option("--task", batch.task, "internal (Slurm job script): run the rows of this task")->group("");
+    batch_cmd->add_option("--workdir", batch.workdir, "working directory of the rows (default: the current one)");
+    batch_cmd->set_config("--config", "", "read these options from a TOML/INI file (e.g. partition = \"gpu\")");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -52,6 +92,7 @@ int main(int argc, char** argv) {
         if (*run_cmd) return cf::runtime::run_command(run);
         if (*validate_cmd) return cf::runtime::validate_command(validate_files, validate_overrides);
         if (*graph_cmd) return cf::runtime::graph_command(graph_file);
+        if (*batch_cmd) return cf::runtime::batch_command(batch);
         if (*verify_cmd) return cf::runtime::verify_command(cases, verify_json);
         if (*nodes_cmd) {
             const auto& reg = cf::node_registry();
