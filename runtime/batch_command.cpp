@@ -41,7 +41,13 @@ bool read_and_report(const std::string& path, Manifest& m, bool validate, bool f
 }
 
 int collect_command(const fs::path& dir) {
-    const auto rows = collect(dir);
+    std::vector<RowResult> rows;
+    try {
+        rows = collect(dir);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "crackflow batch: error: %s\n", e.what());
+        return 2;
+    }
     const SummaryCounts n = count(rows);
     for (const auto& r : rows)
         if (r.status != "ok")
@@ -166,6 +172,14 @@ int batch_command(const BatchRequest& req) {
 
     if (req.backend == "slurm") {
         SlurmOptions s = req.slurm;
+        if (!req.slurm_config.empty()) {
+            try {
+                apply_slurm_config(req.slurm_config, req.slurm_given, s);
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "crackflow batch: error: %s\n", e.what());
+                return 2;
+            }
+        }
         opt.threads = std::max(1, s.cpus_per_task);
         install_batch_signal_handlers();
         const int code = run_slurm(m, manifest_path, complete, opt, s);

@@ -23,6 +23,8 @@ struct BatchRequest {
     long task = -1;
     std::string workdir;            // --workdir (rows' working directory; default: the current one)
     batch::SlurmOptions slurm;
+    std::string slurm_config;              // --slurm-config FILE (YAML)
+    std::vector<std::string> slurm_given;  // the Slurm options given on the command line (they win)
 };
 
 // Exit codes: 0 every row ok; 1 some rows failed (rerun the same command to retry only those);

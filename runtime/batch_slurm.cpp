@@ -1,6 +1,7 @@
 #include "runtime/batch_slurm.hpp"
 
 #include "graph/atomic_write.hpp"
+#include "graph/diagnostics.hpp"
 #include "runtime/batch_plan.hpp"
 #include "runtime/batch_summary.hpp"
 #include "runtime/child_process.hpp"
@@ -11,7 +12,9 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <stdexcept>
 #include <thread>
+#include <yaml-cpp/yaml.h>
 #include <unistd.h>
 
 namespace cf::runtime::batch {
@@ -37,6 +40,51 @@ std::string job_script(const JobScript& s) {
     cmd.insert(cmd.end(), {"--threads", std::to_string(std::max(1, o.cpus_per_task))});
     t += "exec " + shell_command(cmd) + " --task \"$(( ${1:-0} + SLURM_ARRAY_TASK_ID ))\"\n";
     return t;
+}
+
+void apply_slurm_config(const std::string& file, const std::vector<std::string>& given, SlurmOptions& o) {
+    YAML::Node root;
+    try {
+        root = YAML::LoadFile(file);
+    } catch (const YAML::BadFile&) {
+        throw std::runtime_error(file + ": cannot open the Slurm configuration file");
+    } catch (const YAML::ParserException& e) {
+        throw std::runtime_error(file + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                                 ": YAML syntax error: " + e.msg);
+    }
+    if (root.IsNull()) return;
+    if (!root.IsMap()) throw std::runtime_error(file + ": a Slurm configuration is a mapping, e.g. 'partition: short'");
+    const std::vector<std::string> keys = {"partition", "time", "mem", "cpus-per-task", "max-parallel", "rows-per-task",
+                                           "row-seconds", "max-array-size", "sbatch-options"};
+    for (auto it = root.begin(); it != root.end(); ++it) {
+        const std::string key = it->first.Scalar();
+        const YAML::Mark m = it->first.Mark();
+        const std::string where = file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+        if (std::find(keys.begin(), keys.end(), key) == keys.end())
+            throw std::runtime_error(where + ": unknown key '" + key + "' (" + graph::did_you_mean(key, keys) + ")");
+        if (std::find(given.begin(), given.end(), key) != given.end()) continue;  // the command line wins
+        try {
+            const YAML::Node v = it->second;
+            if (key == "partition") o.partition = v.as<std::string>();
+            else if (key == "time") o.time = v.as<std::string>();
+            else if (key == "mem") o.mem = v.as<std::string>();
+            else if (key == "cpus-per-task") o.cpus_per_task = v.as<int>();
+            else if (key == "max-parallel") o.max_parallel = v.as<int>();
+            else if (key == "rows-per-task") o.rows_per_task = v.as<int>();
+            else if (key == "row-seconds") o.row_seconds = v.as<double>();
+            else if (key == "max-array-size") o.max_array_size = v.as<long>();
+            else if (key == "sbatch-options") o.sbatch_options = v.as<std::vector<std::string>>();
+        } catch (const YAML::Exception&) {
+            throw std::runtime_error(where + ": the value of '" + key + "' is not " +
+                                     (key == "sbatch-options" ? "a list of texts" : key == "partition" || key == "time" || key == "mem"
+                                                                                       ? "a text"
+                                                                                       : "a number"));
+        }
+        if ((key == "cpus-per-task" && o.cpus_per_task < 1) || (key == "max-parallel" && o.max_parallel < 1) ||
+            (key == "rows-per-task" && o.rows_per_task < 1) || (key == "row-seconds" && !(o.row_seconds > 0)) ||
+            (key == "max-array-size" && o.max_array_size < 1))
+            throw std::runtime_error(where + ": '" + key + "' must be positive");
+    }
 }
 
 namespace {
@@ -117,6 +165,12 @@ int run_slurm(const Manifest& manifest, const std::string& manifest_path, const 
         const CommandOutput c = run_capture({"scontrol", "show", "config"});
         if (c.exit_code == 127) {
             std::fprintf(stderr, "crackflow batch: error: cannot run scontrol: is Slurm's client (slurm-client) installed?\n");
+            return 2;
+        }
+        if (c.exit_code != 0) {
+            std::fprintf(stderr, "crackflow batch: error: scontrol show config failed: %s\n  hint: is this a Slurm submit host "
+                                 "(SLURM_CONF, or slurm.conf in /etc/slurm)? --max-array-size skips this query\n",
+                         trim(c.err).c_str());
             return 2;
         }
         max_array = parse_max_array_size(c.out);

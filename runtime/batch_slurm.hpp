@@ -23,6 +23,18 @@ struct SlurmOptions {
     bool wait = false;
 };
 
+// Reads a cluster's defaults from a YAML file (docs/batch.md):
+//   partition: short
+//   time: "0:30:00"
+//   mem: 4G
+//   cpus-per-task: 2
+//   max-parallel: 50
+//   rows-per-task: 4
+//   sbatch-options: [--account=vfx]
+// Keys named in `given` (set on the command line) keep the command line's value. Throws
+// std::runtime_error naming the file, line and key on an unknown key or a bad value.
+void apply_slurm_config(const std::string& file, const std::vector<std::string>& given, SlurmOptions& options);
+
 struct JobScript {
     std::string exe, manifest, out_dir, workdir, tasks_file, log_dir, job_name;
     bool fast = false;

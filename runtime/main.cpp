@@ -80,7 +80,9 @@ int main(int argc, char** argv) {
     batch_cmd->add_option("--task-file", batch.task_file, "internal (Slurm job script): the rows of each task")->group("");
     batch_cmd->add_option("--task", batch.task, "internal (Slurm job script): run the rows of this task")->group("");
     batch_cmd->add_option("--workdir", batch.workdir, "working directory of the rows (default: the current one)");
-    batch_cmd->set_config("--config", "", "read these options from a TOML/INI file (e.g. partition = \"gpu\")");
+    batch_cmd->add_option("--slurm-config", batch.slurm_config,
+                          "slurm: a YAML file of the options above without '--' (partition: short, mem: 4G, ...); "
+                          "the command line wins");
 
     try {
         app.parse(argc, argv);
@@ -92,7 +94,13 @@ int main(int argc, char** argv) {
         if (*run_cmd) return cf::runtime::run_command(run);
         if (*validate_cmd) return cf::runtime::validate_command(validate_files, validate_overrides);
         if (*graph_cmd) return cf::runtime::graph_command(graph_file);
-        if (*batch_cmd) return cf::runtime::batch_command(batch);
+        if (*batch_cmd) {
+            for (const char* name : {"partition", "time", "mem", "cpus-per-task", "max-parallel", "rows-per-task",
+                                     "row-seconds", "max-array-size"})
+                if (batch_cmd->count(std::string("--") + name) > 0) batch.slurm_given.push_back(name);
+            if (batch_cmd->count("--sbatch-option") > 0) batch.slurm_given.push_back("sbatch-options");
+            return cf::runtime::batch_command(batch);
+        }
         if (*verify_cmd) return cf::runtime::verify_command(cases, verify_json);
         if (*nodes_cmd) {
             const auto& reg = cf::node_registry();

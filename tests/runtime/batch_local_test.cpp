@@ -314,3 +314,14 @@ TEST(BatchDataset, ManifestValidatesAndOneRowPerPipelineBreaks) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(BatchLocal, CollectOfAFolderThatIsNoBatchIsAnInputError) {
+    const fs::path dir = cf::testing::temp_dir("batch-collect");
+    Outcome o = run_batch("--collect " + dir.string());
+    EXPECT_EQ(o.code, 2) << o.output;
+    EXPECT_NE(o.output.find("is not a batch output directory"), std::string::npos) << o.output;
+}
+
+}  // namespace

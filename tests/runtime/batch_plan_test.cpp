@@ -213,3 +213,33 @@ TEST(BatchSlurm, JobScriptRunsTheTaskOfArrayIndexPlusOffset) {
 
 }  // namespace
 }  // namespace cf::runtime::batch
+
+namespace cf::runtime::batch {
+namespace {
+
+TEST(BatchSlurm, ConfigFileGivesDefaultsTheCommandLineOverrides) {
+    const fs::path dir = cf::testing::temp_dir("slurm-config");
+    write(dir / "c.yaml", "partition: short\ntime: \"0:30:00\"\nmem: 4G\ncpus-per-task: 2\nsbatch-options: [--account=vfx]\n");
+    SlurmOptions o;
+    o.mem = "8G";  // given on the command line
+    apply_slurm_config((dir / "c.yaml").string(), {"mem"}, o);
+    EXPECT_EQ(o.partition, "short");
+    EXPECT_EQ(o.time, "0:30:00");
+    EXPECT_EQ(o.mem, "8G");
+    EXPECT_EQ(o.cpus_per_task, 2);
+    EXPECT_EQ(o.sbatch_options, std::vector<std::string>{"--account=vfx"});
+    write(dir / "bad.yaml", "partition: short\ncpus_per_task: 2\n");
+    try {
+        apply_slurm_config((dir / "bad.yaml").string(), {}, o);
+        ADD_FAILURE() << "an unknown key was accepted";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("bad.yaml:2:1: unknown key 'cpus_per_task' (did you mean 'cpus-per-task'?)"),
+                  std::string::npos)
+            << e.what();
+    }
+    write(dir / "neg.yaml", "max-parallel: 0\n");
+    EXPECT_THROW(apply_slurm_config((dir / "neg.yaml").string(), {}, o), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace cf::runtime::batch

@@ -41,7 +41,8 @@ PIPE=$SRC/tests/runtime/data/batch/tension.yaml
 } > "$W/manifest.csv"
 
 cd "$W" || exit 1
-SLURM_ARGS=(--backend slurm --wait --rows-per-task 2 --max-parallel 2 --cpus-per-task 1 --mem 500M --time 5 --partition debug)
+printf 'partition: debug\ntime: "5:00"\nmem: 500M\ncpus-per-task: 4\n' > "$T/cluster.yaml"
+SLURM_ARGS=(--backend slurm --wait --rows-per-task 2 --max-parallel 2 --cpus-per-task 1 --slurm-config "$T/cluster.yaml")
 t0=$(date +%s.%N)
 "$EXE" batch manifest.csv --out "$T/slurm" "${SLURM_ARGS[@]}" > "$T/pass1.log" 2>&1
 code1=$?
@@ -52,6 +53,8 @@ check "first pass: 5 tasks in 2 array jobs at MaxArraySize 4" grep -q "10 of 10 
 failed1=$(awk -F, 'NR > 1 && $2 != "ok" {print $1}' "$T/slurm/summary.csv")
 check "first pass reports exactly row 'flaky' failed (got: $failed1)" test "$failed1" = flaky
 check "the failed row's log names the missing mesh" grep -q "flaky.off" "$T/slurm/flaky/batch_row.log"
+check "job script: the configuration's partition, time and memory, the command line's CPUs" \
+  bash -c "grep -q -- '--partition=debug' $T/slurm/.batch/slurm/*/job.sh && grep -q -- '--time=5:00' $T/slurm/.batch/slurm/*/job.sh && grep -q -- '--mem=500M' $T/slurm/.batch/slurm/*/job.sh && grep -q -- '--cpus-per-task=1' $T/slurm/.batch/slurm/*/job.sh"
 check "per-task logs exist" bash -c "ls '$T'/slurm/.batch/slurm/*/task_*_*.log >/dev/null"
 
 cp box.off flaky.off
