@@ -43,6 +43,13 @@ FrontGrowth grow_front(SurfaceMesh& cracks, const CrackFront& front, const Front
     if (fm.markers.size() != expected || fm.closed != front.closed)
         throw std::invalid_argument("grow_front: " + std::to_string(fm.markers.size()) + " markers do not belong to a front of " +
                                     std::to_string(N) + " nodes (expected " + std::to_string(expected) + ")");
+    if (N == 0) {  // an empty front grows nothing (the open-front end node below needs N > 0)
+        FrontGrowth none;
+        none.front = front;
+        none.markers.closed = fm.closed;
+        none.markers.per_edge = fm.per_edge;
+        return none;
+    }
     const double lo = s.min_factor * s.r_c, hi = s.max_factor * s.r_c;
     if (cracks.region.size() != cracks.triangles.size()) cracks.region.assign(cracks.triangles.size(), 0);
     const std::size_t v0 = cracks.vertices.size(), t0 = cracks.triangles.size();

@@ -4,6 +4,7 @@
 #include "nodes/export/mesh_writers.hpp"
 #include "nodes/import/read_mesh.hpp"
 #include "tests/import/mesh_fixtures.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -149,12 +150,9 @@ TEST(Writers, RejectBrokenMeshes) {
     SurfaceMesh m = tetrahedron();
     m.triangles[1][2] = 4;
     std::ostringstream os;
-    try {
-        write_obj(os, m);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("triangle 1 refers to vertex 4 but the mesh has 4 vertices"), std::string::npos);
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { write_obj(os, m); },
+        {"triangle 1 refers to vertex 4 but the mesh has 4 vertices"}));
     SurfaceMesh r = tetrahedron();
     r.region = {0, 1};
     EXPECT_THROW(write_ply(os, r, true), std::invalid_argument);

@@ -1,6 +1,7 @@
 // fields.* node adapters through the per-node harness.
 #include "nodes/fields/scalar_field.hpp"
 #include "tests/harness/node_harness.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -37,12 +38,9 @@ TEST(FieldsNodes, GranularAndHomogeneous) {
 }
 
 TEST(FieldsNodes, MissingVdbFileNamesTheFile) {
-    try {
-        testing::run_node("fields.vdb", {{"file", std::string("/nonexistent/k.vdb")}});
-        FAIL();
-    } catch (const graph::NodeError& e) {
-        EXPECT_NE(std::string(e.what()).find("/nonexistent/k.vdb"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<graph::NodeError>(
+        [&] { testing::run_node("fields.vdb", {{"file", std::string("/nonexistent/k.vdb")}}); },
+        {"/nonexistent/k.vdb"}));
 }
 
 }  // namespace

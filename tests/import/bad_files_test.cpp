@@ -2,6 +2,7 @@
 // the line or byte offset where there is one) and saying what to do.
 #include "nodes/import/read_mesh.hpp"
 #include "tests/import/mesh_fixtures.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -45,12 +46,7 @@ TEST_F(BadFiles, EmptyFile) {
 }
 
 TEST_F(BadFiles, MissingFileAndUnknownExtension) {
-    try {
-        read_mesh(dir_ / "missing.obj");
-        ADD_FAILURE();
-    } catch (const MeshFileError& e) {
-        EXPECT_NE(std::string(e.what()).find("missing.obj: error: file not found"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<MeshFileError>([&] { read_mesh(dir_ / "missing.obj"); }, {"missing.obj: error: file not found"}));
     expect_error("cube.3ds", cube_obj(), {"unknown mesh file extension '.3ds'", "use a .obj, .off, .ply or .stl"});
 }
 

@@ -2,6 +2,7 @@
 #include "graph/node_context.hpp"
 #include "tests/harness/node_harness.hpp"
 #include "tests/import/mesh_fixtures.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -34,14 +35,9 @@ TEST(ImportMeshNode, ReorientParameter) {
 TEST(ImportMeshNode, FileErrorsBecomeNodeErrors) {
     auto dir = temp_dir("import-node");
     auto path = write_file(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
-    try {
-        run_node("import.mesh", {{"path", path.string()}});
-        FAIL();
-    } catch (const graph::NodeError& e) {
-        EXPECT_NE(std::string(e.what()).find("bad.obj:4: error: face index 7 out of range (file has 3 vertices"),
-                  std::string::npos)
-            << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<graph::NodeError>(
+        [&] { run_node("import.mesh", {{"path", path.string()}}); },
+        {"bad.obj:4: error: face index 7 out of range (file has 3 vertices"}));
 }
 
 TEST(ImportMeshNode, ParameterChecks) {

@@ -8,6 +8,7 @@
 #include "nodes/propagate/fracture_state.hpp"
 #include "nodes/shape/box.hpp"
 #include "tests/harness/node_harness.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -126,11 +127,7 @@ TEST(FractureInputs, UnphysicalMaterialValuesAreRejectedWithTheirUnit) {
 
 TEST(FractureInputs, MessagesShowTheDigitsOfTheGivenNumbers) {
     // r_c = 2.9499e-4 m below r_f = 2.95e-4 m: %f printed both as 0.000295, which read as equal.
-    try {
-        propagate::start_fracture_state(2.9499e-4, 2.95e-4, 3, 12);
-        FAIL() << "r_c < r_f accepted";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("r_c (0.00029499 m) must be larger than r_f (0.000295 m)"), std::string::npos)
-            << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { propagate::start_fracture_state(2.9499e-4, 2.95e-4, 3, 12); },
+        {"r_c (0.00029499 m) must be larger than r_f (0.000295 m)"}));
 }

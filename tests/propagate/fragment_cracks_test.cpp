@@ -15,6 +15,7 @@
 #include "nodes/segment/fragments.hpp"
 #include "nodes/shape/box.hpp"
 #include "tests/harness/node_harness.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -530,20 +531,14 @@ TEST(FragmentCracks, BadInputsAreNamed) {
     const FractureState& parent = grown_penny();
     const SurfaceMesh surface = box(Vec3(-0.5, -0.5, -0.5), Vec3(0.1, 0.5, 0.5));
     const LevelSet coarse = level_set_from_mesh(surface, 2 * r_f);
-    try {
-        restrict_to_fragment(parent, coarse, surface);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("voxel size"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { restrict_to_fragment(parent, coarse, surface); },
+        {"voxel size"}));
     SurfaceMesh inward = surface;
     for (Tri& t : inward.triangles) std::swap(t[1], t[2]);
-    try {
-        restrict_to_fragment(parent, level_set_from_mesh(surface, r_f), inward);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("outward"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { restrict_to_fragment(parent, level_set_from_mesh(surface, r_f), inward); },
+        {"outward"}));
     EXPECT_THROW(restrict_to_fragment(parent, LevelSet{}, surface), std::invalid_argument);
 }
 

@@ -1,6 +1,7 @@
 // Crack-front geometry (thesis ch. 4.5.2, fig. 16) on hand-built sheets.
 #include "nodes/fields/closed_form_fields.hpp"
 #include "nodes/propagate/front_growth.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -168,6 +169,56 @@ TEST(FrontGrowth, TrianglesCrossingAConcaveSurfaceAreNotMade) {
     }
     EXPECT_LT(g.added_triangles, all.added_triangles);
     EXPECT_GT(g.added_triangles, 0u);  // away from the notch the front still grows
+}
+
+// Degenerate fronts, one scope each: what grow_front does with them.
+TEST(FrontGrowth, EdgeCases) {
+    {
+        SCOPED_TRACE("a front with no markers is refused, naming the counts, and appends nothing");
+        SurfaceMesh m = strip();
+        FrontMarkers fm = place_markers(strip_front(), m, 5);
+        fm.markers.clear();
+        EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+            [&] { grow_front(m, strip_front(), fm, growth(1.0)); },
+            {"0 markers do not belong to a front of 5 nodes (expected 21)"}));
+        EXPECT_EQ(m.num_triangles(), 8u);
+        EXPECT_EQ(m.num_vertices(), 10u);
+    }
+    {
+        SCOPED_TRACE("an empty front (no nodes, no markers) grows nothing");
+        SurfaceMesh m = strip();
+        const SurfaceMesh before = m;
+        CrackFront empty;
+        empty.closed = false;
+        FrontMarkers none;
+        none.closed = false;
+        none.per_edge = 5;
+        const FrontGrowth g = grow_front(m, empty, none, growth(1.0));
+        EXPECT_EQ(g.added_vertices, 0u);
+        EXPECT_EQ(g.added_triangles, 0u);
+        EXPECT_TRUE(g.front.nodes.empty());
+        EXPECT_TRUE(g.markers.markers.empty());
+        expect_append_only(before, m);
+        EXPECT_EQ(m.num_triangles(), before.num_triangles());
+    }
+    {
+        SCOPED_TRACE("markers that did not move: no node moves, nothing is appended, the front stays");
+        SurfaceMesh m = strip();
+        const SurfaceMesh before = m;
+        const FrontMarkers fm = strip_markers(m, [](const Vec3& p) -> Vec3 { return p; });
+        const FrontGrowth g = grow_front(m, strip_front(), fm, growth(1.0));
+        EXPECT_EQ(g.added_vertices, 0u);
+        EXPECT_EQ(g.added_triangles, 0u);
+        EXPECT_EQ(g.front.nodes, strip_front().nodes);
+        EXPECT_EQ(m.num_triangles(), before.num_triangles());
+    }
+    {
+        SCOPED_TRACE("a target edge length of zero is refused");
+        SurfaceMesh m = strip();
+        const FrontMarkers fm = strip_markers(m, [](const Vec3& p) -> Vec3 { return p - Vec3(0, 0.5, 0); });
+        EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([&] { grow_front(m, strip_front(), fm, growth(0.0)); },
+                                                               {"r_c must be > 0"}));
+    }
 }
 
 TEST(FrontGrowth, CaseA_UniformAdvance) {

@@ -4,6 +4,7 @@
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/segment/fragments.hpp"
 #include "nodes/segment/levelset_verification.hpp"
+#include "tests/harness/expect_error.hpp"
 #include "tests/levelset/test_meshes.hpp"
 
 #include <gtest/gtest.h>
@@ -67,6 +68,42 @@ TEST(Fragments, PlanarCutVolumesCentroidsAndBoxesMatchTheHalves) {
     EXPECT_GT(sample(f.fragments[1].grid, Vec3(0, 0, -0.3)), 0);
 }
 
+// Degenerate cracks, one scope each: none at all, one that stays inside, one of zero area, and a
+// threshold of zero.
+TEST(Fragments, EdgeCases) {
+    const LevelSet obj = cube();
+    const double t = crack_half_thickness(kRf);
+    {
+        SCOPED_TRACE("no cracks: one fragment, the whole 1 m^3 cube");
+        const Fragments f = find_fragments(broken_object(obj, {kRf, 3, {}}));
+        ASSERT_EQ(f.fragments.size(), 1u);
+        EXPECT_NEAR(f.fragments[0].volume, 1.0, kRf);
+    }
+    {
+        SCOPED_TRACE("a crack that stays inside the object splits nothing; its slab is not part of the fragment");
+        const Fragments f = find_fragments(broken_object(obj, {kRf, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0.2, kRf)}}));
+        ASSERT_EQ(f.fragments.size(), 1u);
+        const double slab = M_PI * 0.2 * 0.2 * 2 * t;  // the disk's recorded thickness
+        EXPECT_NEAR(f.fragments[0].volume, 1.0 - slab, 0.5 * slab);
+    }
+    {
+        SCOPED_TRACE("a crack of zero area (one point) splits nothing");
+        CrackRecorder rec(kRf);
+        rec.add_crack();
+        const Vec3 p = kRf * Vec3(3, 1, -2);
+        rec.add_triangles(0, {Triangle3{p, p, p}});
+        const Fragments f = find_fragments(broken_object(obj, rec.release()));
+        ASSERT_EQ(f.fragments.size(), 1u);
+        EXPECT_NEAR(f.fragments[0].volume, 1.0, kRf);
+    }
+    {
+        SCOPED_TRACE("threshold s = 0 still separates the two halves of a through cut");
+        const Fragments f = find_fragments(broken_object(obj, {kRf, 3, {planar_disk_crack(Vec3(0, 0, 0.031), Vec3::UnitZ(), 1, kRf)}}),
+                                           SegmentOptions{0.0, true});
+        EXPECT_EQ(f.fragments.size(), 2u);
+    }
+}
+
 TEST(Fragments, SpecksBelowTheMinimumVolumeAreDropped) {
     const double z = 0.031;
     const LevelSet obj = cube();
@@ -114,14 +151,8 @@ TEST(Fragments, ResultIndependentOfThreadCount) {
 
 TEST(Fragments, ThresholdOutOfRangeIsRejectedWithTheReason) {
     const LevelSet broken = broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 1, kRf)}});
-    try {
-        find_fragments(broken, SegmentOptions{1.5 * kRf, true});
-        FAIL() << "s = 1.5 r_f accepted";
-    } catch (const std::invalid_argument& e) {
-        const std::string m = e.what();
-        EXPECT_NE(m.find("[0, r_f]"), std::string::npos) << m;
-        EXPECT_NE(m.find("0.02"), std::string::npos) << m;
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([&] { find_fragments(broken, SegmentOptions{1.5 * kRf, true}); },
+                                                           {"[0, r_f]", "0.02"}));
     EXPECT_EQ(over_segmentation_ring(0, kRf), 1);
     EXPECT_EQ(over_segmentation_ring(kRf, kRf), 2);
     EXPECT_EQ(over_segmentation_ring(0.4 * kRf, kRf), 1);
@@ -130,24 +161,15 @@ TEST(Fragments, ThresholdOutOfRangeIsRejectedWithTheReason) {
 TEST(Fragments, EmptyOrOutsideCracksAreRejected) {
     CrackRecorder rec(kRf);
     rec.add_crack();
-    try {
-        broken_object(cube(), rec.release());
-        FAIL() << "empty crack accepted";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("crack 0 is empty"), std::string::npos) << e.what();
-    }
-    try {
-        broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3(3, 0, 0), Vec3::UnitZ(), 0.2, kRf)}});
-        FAIL() << "crack outside accepted";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("outside the object"), std::string::npos) << e.what();
-    }
-    try {
-        broken_object(cube(), {0.01, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0.2, 0.01)}});
-        FAIL() << "voxel size mismatch accepted";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("same r_f"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { broken_object(cube(), rec.release()); },
+        {"crack 0 is empty"}));
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { broken_object(cube(), {kRf, 3, {planar_disk_crack(Vec3(3, 0, 0), Vec3::UnitZ(), 0.2, kRf)}}); },
+        {"outside the object"}));
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { broken_object(cube(), {0.01, 3, {planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0.2, 0.01)}}); },
+        {"same r_f"}));
 }
 
 TEST(Fragments, ListingsHoldOneRowPerFragment) {

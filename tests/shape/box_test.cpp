@@ -1,6 +1,7 @@
 // Box: volume, area and face areas are exact for any subdivision.
 #include "nodes/shape/box.hpp"
 #include "tests/shape/mesh_checks.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -59,12 +60,8 @@ TEST(Box, SingleCellBoxIsTheTwelveTriangleCube) {
 TEST(Box, BadSpecsAreRejectedNamingTheParameter) {
     BoxSpec s;
     s.size = Vec3(1, 0, 1);
-    try {
-        make_box(s);
-        FAIL() << "expected an error";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "parameter 'size': every edge length must be > 0 m, got 0 m for axis y");
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { make_box(s); }, {"parameter 'size': every edge length must be > 0 m, got 0 m for axis y"}));
     s.size = Vec3(1, 1, 1);
     s.subdivisions = 0;
     EXPECT_THROW(make_box(s), std::invalid_argument);

@@ -1,6 +1,7 @@
 // Cylinder: the mesh is exactly the inscribed regular prism.
 #include "nodes/shape/cylinder.hpp"
 #include "tests/shape/mesh_checks.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -77,20 +78,12 @@ TEST(Cylinder, ConvergesToTheCircularCylinderAsSegmentsGrow) {
 TEST(Cylinder, BadSpecsAreRejected) {
     CylinderSpec s;
     s.segments = 2;
-    try {
-        make_cylinder(s);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "parameter 'segments' must be >= 3, got 2");
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([&] { make_cylinder(s); }, {"parameter 'segments' must be >= 3, got 2"}));
     s.segments = 20000;
     s.rings = 20000;
-    try {
-        make_cylinder(s);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "segments, rings and cap_rings would make 800040000 triangles (limit 4000000); reduce them");
-    }
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { make_cylinder(s); },
+        {"segments, rings and cap_rings would make 800040000 triangles (limit 4000000); reduce them"}));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Remeshing (ch. 6.1): QEM to a target count, self-intersection repair, outward offset, and the
 // guarantees of verification.md case 12 on a box, the bunny and the armadillo.
+#include "nodes/levelset/crack_grids.hpp"
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/segment/levelset_verification.hpp"
@@ -7,9 +8,11 @@
 #include "nodes/simplify/degenerate_cleanup.hpp"
 #include "nodes/simplify/mesh_repair.hpp"
 #include "nodes/simplify/remesh.hpp"
+#include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -168,11 +171,42 @@ TEST(RemeshErrors, BadTargetsAreRejected) {
     opt.target_triangles = 2;
     EXPECT_THROW(remesh(ls, opt), std::invalid_argument);
     opt.target_triangles = 10000000;
-    try {
-        remesh(ls, opt);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("exceeds the dual-contoured mesh"), std::string::npos) << e.what();
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { remesh(ls, opt); },
+        {"exceeds the dual-contoured mesh"}));
+}
+
+// Degenerate input, one scope each: a level set without a surface, offsets that are no number of
+// voxels, and an empty mesh through every clean-up step.
+TEST(Remesh, EdgeCases) {
+    {
+        SCOPED_TRACE("a level set with no active voxel has no surface to mesh");
+        CrackRecorder rec(0.05);
+        rec.add_crack();
+        const LevelSet empty = rec.snapshot().cracks[0];
+        EXPECT_TRUE(cf::testing::throws<std::runtime_error>([&] { remesh(empty, RemeshOptions{}); },
+                                                            {"the level set has no surface to mesh"}));
+    }
+    {
+        SCOPED_TRACE("a negative or NaN offset is refused with its value");
+        SphereSpec spec;
+        spec.radius = 0.5;
+        const LevelSet ls = level_set_from_mesh(make_icosphere(spec), 0.05);
+        RemeshOptions opt;
+        opt.offset_voxels = -1;
+        EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([&] { remesh(ls, opt); }, {"voxels, got -1"}));
+        opt.offset_voxels = std::nan("");
+        EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([&] { remesh(ls, opt); }, {"voxels, got nan"}));
+    }
+    {
+        SCOPED_TRACE("an empty mesh passes every clean-up step unchanged");
+        SurfaceMesh m;
+        const DegenerateCleanup c = remove_degenerate_triangles(m);
+        EXPECT_EQ(c.flips + c.collapses + c.left, 0u);
+        EXPECT_EQ(repair_self_intersections(m, 3), 0);
+        offset_along_normals(m, 0.1);
+        EXPECT_TRUE(without_unused_vertices(m).triangles.empty());
+        EXPECT_TRUE(m.vertices.empty() && m.triangles.empty());
     }
 }
 
