@@ -61,6 +61,21 @@ public:
     Plan load(const YAML::Node& root, const LoadOptions& options);
 
 private:
+    // The steps of load(), in order.
+    bool read_top_level(const YAML::Node& root, YAML::Node& nodes, YAML::Node& fast, bool& has_fast);  // false: fatal
+    void apply_overrides(const YAML::Node& fast, bool has_fast, const LoadOptions& options);
+    void plan_types_and_params();
+    void resolve_loop_variables();
+    void resolve_inputs();
+    void resolve_loop_next_and_while();
+    // Every body node must depend on a per-iteration value, or it would never know when to run.
+    void check_body_nodes_vary();
+    // Topological order, file order among ready nodes; empty after reporting a cycle.
+    std::vector<int> dependency_order();
+    // A node fed by LOOP.each runs once per iteration; so do its consumers.
+    void mark_streamed_nodes(const std::vector<int>& order);
+    // Stable plan indices: reorder the nodes and remap every reference.
+    void emit_in_order(const std::vector<int>& order, Plan& plan);
     void read_nodes(const YAML::Node& map, int body_of);
     void apply_override(const Override& o);
     std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node, const SourceLoc& l);
@@ -406,15 +421,12 @@ std::optional<PlanInput> Loader::resolve_source(const YAML::Node& src, int consu
     return in;
 }
 
-Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
-    Plan plan;
-    plan.file = file_;
+bool Loader::read_top_level(const YAML::Node& root, YAML::Node& nodes, YAML::Node& fast, bool& has_fast) {
     if (!root.IsMap()) {
         error(loc(root), "a pipeline file must be a mapping with a top-level 'nodes:' key");
-        return plan;
+        return false;
     }
-    YAML::Node nodes, fast;
-    bool has_nodes = false, has_fast = false;
+    bool has_nodes = false;
     for (auto it = root.begin(); it != root.end(); ++it) {
         const std::string key = it->first.Scalar();
         if (key == "nodes") nodes = it->second, has_nodes = true;
@@ -424,10 +436,12 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
     }
     if (!has_nodes || !nodes.IsMap()) {
         error(loc(root), "missing top-level 'nodes:' mapping", "nodes:\n    box: {type: shape.box}");
-        return plan;
+        return false;
     }
-    read_nodes(nodes, -1);
+    return true;
+}
 
+void Loader::apply_overrides(const YAML::Node& fast, bool has_fast, const LoadOptions& options) {
     std::vector<Override> overrides;
     if (options.fast && has_fast) {
         if (!fast.IsMap()) error(loc(fast), "'fast:' must be a mapping of NODE.PARAM: value");
@@ -446,8 +460,9 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
     }
     overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
     for (const auto& o : overrides) apply_override(o);
+}
 
-    // Types and parameters.
+void Loader::plan_types_and_params() {
     plan_.resize(raw_.size());
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         RawNode& r = raw_[i];
@@ -471,8 +486,9 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
         }
         read_params(*p.type, r, p.params);
     }
+}
 
-    // Loop variables first (their types come from the initial values), then every input.
+void Loader::resolve_loop_variables() {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         if (!is_loop(static_cast<int>(i))) continue;
         for (auto& [var, src] : raw_[i].inputs) {
@@ -490,6 +506,9 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
         if (raw_[i].inputs.empty())
             error(raw_[i].loc, "loop '" + raw_[i].name + "' has no variables", "add inputs: {VAR: node.port} with the initial value of each");
     }
+}
+
+void Loader::resolve_inputs() {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         if (is_loop(static_cast<int>(i)) || !plan_[i].type) continue;
         const NodeType& t = *plan_[i].type;
@@ -524,7 +543,9 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
             }
         check_input_rules(i);
     }
-    // Loop next / while.
+}
+
+void Loader::resolve_loop_next_and_while() {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         if (!is_loop(static_cast<int>(i))) continue;
         PlanNode& lp = plan_[i];
@@ -566,27 +587,27 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
             }
         }
     }
-    // Every body node must depend on a per-iteration value, or it would never know when to run.
-    {
-        std::vector<char> varies(raw_.size(), 0);
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (std::size_t v = 0; v < raw_.size(); ++v) {
-                if (varies[v] || plan_[v].body_of < 0) continue;
-                for (const auto& in : plan_[v].inputs)
-                    if (in.kind == SourceKind::LoopVariable || in.kind == SourceKind::LoopIteration ||
-                        (in.kind == SourceKind::NodeOutput && varies[in.source]))
-                        varies[v] = 1, changed = true;
-            }
-        }
-        for (std::size_t v = 0; v < raw_.size(); ++v)
-            if (plan_[v].body_of >= 0 && plan_[v].type && !varies[v])
-                error(plan_[v].loc, "node '" + plan_[v].name + "' is in the body of loop '" + raw_[plan_[v].body_of].name + "' but uses no loop value",
-                      "move it out of the body, or connect it to " + raw_[plan_[v].body_of].name + ".VAR or .iteration");
-    }
-    if (!diags_.empty()) return plan;
+}
 
-    // Dependency order (loop back-edges 'next'/'while' are not edges).
+void Loader::check_body_nodes_vary() {
+    std::vector<char> varies(raw_.size(), 0);
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t v = 0; v < raw_.size(); ++v) {
+            if (varies[v] || plan_[v].body_of < 0) continue;
+            for (const auto& in : plan_[v].inputs)
+                if (in.kind == SourceKind::LoopVariable || in.kind == SourceKind::LoopIteration ||
+                    (in.kind == SourceKind::NodeOutput && varies[in.source]))
+                    varies[v] = 1, changed = true;
+        }
+    }
+    for (std::size_t v = 0; v < raw_.size(); ++v)
+        if (plan_[v].body_of >= 0 && plan_[v].type && !varies[v])
+            error(plan_[v].loc, "node '" + plan_[v].name + "' is in the body of loop '" + raw_[plan_[v].body_of].name + "' but uses no loop value",
+                  "move it out of the body, or connect it to " + raw_[plan_[v].body_of].name + ".VAR or .iteration");
+}
+
+std::vector<int> Loader::dependency_order() {
     const int n = static_cast<int>(raw_.size());
     std::vector<std::vector<int>> succ(n);
     std::vector<int> indeg(n, 0);
@@ -625,14 +646,16 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
                 cyc += raw_[path[next < 0 ? path.size() - 1 : from]].name;
                 error(raw_[start].loc, "illegal cycle: " + cyc,
                       "a pipeline is acyclic; express iteration with a loop node (type: loop) and its 'next:' values");
-                return plan;
+                return {};
             }
             pos[next] = static_cast<int>(path.size());
             path.push_back(next);
         }
     }
+    return order;
+}
 
-    // Per-iteration scopes: a node fed by LOOP.each runs once per iteration; so do its consumers.
+void Loader::mark_streamed_nodes(const std::vector<int>& order) {
     for (int v : order) {
         PlanNode& p = plan_[v];
         if (p.body_of >= 0 || p.is_loop()) continue;
@@ -647,7 +670,10 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
             p.streamed_by = s;
         }
     }
-    // Stable plan indices: reorder and remap.
+}
+
+void Loader::emit_in_order(const std::vector<int>& order, Plan& plan) {
+    const int n = static_cast<int>(raw_.size());
     std::vector<int> new_index(n);
     for (int k = 0; k < n; ++k) new_index[order[k]] = k;
     auto remap = [&](PlanInput& in) { in.source = new_index[in.source]; };
@@ -660,6 +686,28 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
         if (p.streamed_by >= 0) p.streamed_by = new_index[p.streamed_by];
     }
     for (int k = 0; k < n; ++k) plan.nodes.push_back(std::move(plan_[order[k]]));
+}
+
+// The passes, in order; each reports every problem it finds, and the plan is built only when
+// none was found.
+Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
+    Plan plan;
+    plan.file = file_;
+    YAML::Node nodes, fast;
+    bool has_fast = false;
+    if (!read_top_level(root, nodes, fast, has_fast)) return plan;
+    read_nodes(nodes, -1);
+    apply_overrides(fast, has_fast, options);  // fast: (with --fast) and --set
+    plan_types_and_params();
+    resolve_loop_variables();  // first: their types come from the initial values
+    resolve_inputs();
+    resolve_loop_next_and_while();
+    check_body_nodes_vary();
+    if (!diags_.empty()) return plan;
+    const std::vector<int> order = dependency_order();  // loop back-edges 'next'/'while' are not edges
+    if (!diags_.empty()) return plan;                   // a cycle
+    mark_streamed_nodes(order);
+    emit_in_order(order, plan);
     return plan;
 }
 
