@@ -181,77 +181,36 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
 // distance per voxel, in parallel (oneTBB); only creating leaves is sequential. The result does
 // not depend on the thread count (min is order-independent). Returns the number of voxels set or
 // lowered.
-std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
-                                double half_width) {
-    using LeafT = openvdb::FloatTree::LeafNodeType;
-    const double thick = crack_half_thickness(r_f);
-    const double reach = half_width * r_f + thick;  // d < reach <=> value inside the band
-    std::vector<RasterTriangle> prepared;
-    prepared.reserve(tris.size());
-    for (const Triangle3& t : tris) prepared.emplace_back(t, r_f, reach);
-    // (block, triangle) pairs, sorted by block.
-    // Within a block, triangles nearest its centre come first, so the best distance of most
-    // voxels is found early and the box test prunes the rest.
-    struct Entry {
-        openvdb::Coord block;
-        float near2;  // squared distance from the block centre to the triangle's box [m^2]
-        std::uint32_t tri;
-    };
-    auto near2 = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
-        double d2 = 0;
-        for (int a = 0; a < 3; ++a) {
-            const double c = (block[a] + 0.5 * (kLeafDim - 1)) * r_f;
-            const double d = std::max({rt.box_lo[a] - c, c - rt.box_hi[a], 0.0});
-            d2 += d * d;
-        }
-        return float(d2);
-    };
-    // Squared gap between a block's voxel-centre box and the triangle's box [m^2].
-    auto box_gap2 = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
-        double d2 = 0;
-        for (int a = 0; a < 3; ++a) {
-            const double lo = block[a] * r_f, hi = (block[a] + kLeafDim - 1) * r_f;
-            const double d = std::max({rt.box_lo[a] - hi, lo - rt.box_hi[a], 0.0});
-            d2 += d * d;
-        }
-        return d2;
-    };
-    const double reach2_slack = reach * reach * (1 + 1e-9);
-    // A block whose centre lies farther from the triangle itself than the reach plus the block's
-    // half-diagonal holds no voxel of the band (triangle inequality). This prunes the far corners
-    // of a long, thin, oblique triangle's box (a fan between a stopped marker and a moving
-    // neighbour), whose box-based count grows with the square of its length.
-    const double block_half_diagonal = std::sqrt(3.0) * 0.5 * (kLeafDim - 1) * r_f;
-    const double block_reach2 = (reach + block_half_diagonal) * (reach + block_half_diagonal) * (1 + 1e-9);
-    auto beyond_reach = [&](const openvdb::Coord& block, const RasterTriangle& rt) {
-        const Vec3 c = (Vec3(block[0], block[1], block[2]).array() + 0.5 * (kLeafDim - 1)).matrix() * r_f;
-        return rt.distance2(c) > block_reach2;
-    };
-    // The blocks each triangle reaches, generated per triangle in parallel (counted first, then
-    // written to their place), in triangle order.
-    auto for_each_block = [&](std::size_t t, auto&& emit) {
-        const RasterTriangle& rt = prepared[t];
+// One (block, triangle) pair of the rasteriser: the triangle's band reaches the leaf-sized block.
+struct BlockEntry {
+    openvdb::Coord block;
+    float near2;  // squared distance from the block centre to the triangle's box [m^2]
+    std::uint32_t tri;
+};
+
+// The blocks a prepared triangle's band reaches, handed to `emit` in a fixed order. Run once per
+// triangle to count its blocks and once to write them to their place (so the pairs of all
+// triangles are generated in parallel into one array).
+class BlocksOfTriangle {
+public:
+    BlocksOfTriangle(const std::vector<RasterTriangle>& prepared, double r_f, double reach)
+        : prepared_(prepared),
+          r_f_(r_f),
+          reach2_slack_(reach * reach * (1 + 1e-9)),
+          // A block whose centre lies farther from the triangle itself than the reach plus the
+          // block's half-diagonal holds no voxel of the band (triangle inequality). This prunes the
+          // far corners of a long, thin, oblique triangle's box (a fan between a stopped marker
+          // and a moving neighbour), whose box-based count grows with the square of its length.
+          block_reach2_((reach + kBlockHalfDiagonal * r_f) * (reach + kBlockHalfDiagonal * r_f) * (1 + 1e-9)) {}
+
+    template <class Emit>
+    void operator()(std::size_t t, Emit&& emit) const {
+        const RasterTriangle& rt = prepared_[t];
         const int u = rt.u, v = rt.v, axis = rt.axis;
         for (int bi = rt.lo_i[u] >> 3; bi <= rt.hi_i[u] >> 3; ++bi)
             for (int bj = rt.lo_i[v] >> 3; bj <= rt.hi_i[v] >> 3; ++bj) {
                 int k0 = rt.lo_i[axis], k1 = rt.hi_i[axis];
-                if (rt.slab) {
-                    // The slab over this block column: the plane is linear, so its extremes
-                    // are at the column's corners (one voxel of slack for the rounding below).
-                    double c_lo = std::numeric_limits<double>::max(), c_hi = -c_lo;
-                    for (int ci = 0; ci < 2; ++ci)
-                        for (int cj = 0; cj < 2; ++cj) {
-                            Vec3 x;
-                            x[u] = (bi * kLeafDim + ci * (kLeafDim - 1)) * r_f;
-                            x[v] = (bj * kLeafDim + cj * (kLeafDim - 1)) * r_f;
-                            x[axis] = 0;
-                            const double c = rt.n.dot(rt.t[0] - x) / rt.n[axis];
-                            c_lo = std::min(c_lo, c);
-                            c_hi = std::max(c_hi, c);
-                        }
-                    k0 = std::max(k0, int(std::floor((c_lo - rt.half) / r_f)) - 1);
-                    k1 = std::min(k1, int(std::ceil((c_hi + rt.half) / r_f)) + 1);
-                }
+                if (rt.slab) slab_over_column(rt, bi, bj, k0, k1);
                 for (int bk = k0 >> 3; bk <= k1 >> 3; ++bk) {
                     openvdb::Coord block;
                     block[u] = bi * kLeafDim;
@@ -259,28 +218,134 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
                     block[axis] = bk * kLeafDim;
                     // Blocks in the corners of the reach box lie farther than the reach from the
                     // triangle's own box: nothing there can enter the band.
-                    if (box_gap2(block, rt) > reach2_slack || beyond_reach(block, rt)) continue;
-                    emit(Entry{block, near2(block, rt), std::uint32_t(t)});
+                    if (box_gap2(block, rt) > reach2_slack_ || beyond_reach(block, rt)) continue;
+                    emit(BlockEntry{block, near2(block, rt), std::uint32_t(t)});
                 }
             }
-    };
+    }
+
+private:
+    static constexpr double kBlockHalfDiagonal = 0.8660254037844386 * (kLeafDim - 1);  // sqrt(3)/2 (DIM - 1) voxels
+
+    // The slab over block column (bi, bj): the plane is linear, so its extremes are at the
+    // column's corners (one voxel of slack for the rounding below).
+    void slab_over_column(const RasterTriangle& rt, int bi, int bj, int& k0, int& k1) const {
+        const int u = rt.u, v = rt.v, axis = rt.axis;
+        double c_lo = std::numeric_limits<double>::max(), c_hi = -c_lo;
+        for (int ci = 0; ci < 2; ++ci)
+            for (int cj = 0; cj < 2; ++cj) {
+                Vec3 x;
+                x[u] = (bi * kLeafDim + ci * (kLeafDim - 1)) * r_f_;
+                x[v] = (bj * kLeafDim + cj * (kLeafDim - 1)) * r_f_;
+                x[axis] = 0;
+                const double c = rt.n.dot(rt.t[0] - x) / rt.n[axis];
+                c_lo = std::min(c_lo, c);
+                c_hi = std::max(c_hi, c);
+            }
+        k0 = std::max(k0, int(std::floor((c_lo - rt.half) / r_f_)) - 1);
+        k1 = std::min(k1, int(std::ceil((c_hi + rt.half) / r_f_)) + 1);
+    }
+    // Squared distance from the block centre to the triangle's box [m^2]: triangles nearest a
+    // block's centre are rasterised first, so most voxels find their best distance early.
+    float near2(const openvdb::Coord& block, const RasterTriangle& rt) const {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double c = (block[a] + 0.5 * (kLeafDim - 1)) * r_f_;
+            const double d = std::max({rt.box_lo[a] - c, c - rt.box_hi[a], 0.0});
+            d2 += d * d;
+        }
+        return float(d2);
+    }
+    // Squared gap between a block's voxel-centre box and the triangle's box [m^2].
+    double box_gap2(const openvdb::Coord& block, const RasterTriangle& rt) const {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = block[a] * r_f_, hi = (block[a] + kLeafDim - 1) * r_f_;
+            const double d = std::max({rt.box_lo[a] - hi, lo - rt.box_hi[a], 0.0});
+            d2 += d * d;
+        }
+        return d2;
+    }
+    bool beyond_reach(const openvdb::Coord& block, const RasterTriangle& rt) const {
+        const Vec3 c = (Vec3(block[0], block[1], block[2]).array() + 0.5 * (kLeafDim - 1)).matrix() * r_f_;
+        return rt.distance2(c) > block_reach2_;
+    }
+
+    const std::vector<RasterTriangle>& prepared_;
+    const double r_f_, reach2_slack_, block_reach2_;
+};
+
+// Every (block, triangle) pair, generated per triangle in parallel (counted first, then written
+// to its place) and sorted by block, nearest triangle first. A total order, so the parallel
+// sort's result does not depend on the thread count.
+std::vector<BlockEntry> block_entries(const std::vector<RasterTriangle>& prepared, double r_f, double reach) {
+    const BlocksOfTriangle blocks_of(prepared, r_f, reach);
     std::vector<std::size_t> first_entry(prepared.size() + 1, 0);
     tbb::parallel_for(std::size_t(0), prepared.size(), [&](std::size_t t) {
         std::size_t n = 0;
-        for_each_block(t, [&](const Entry&) { ++n; });
+        blocks_of(t, [&](const BlockEntry&) { ++n; });
         first_entry[t + 1] = n;
     });
     for (std::size_t t = 0; t < prepared.size(); ++t) first_entry[t + 1] += first_entry[t];
-    std::vector<Entry> entries(first_entry.back());
+    std::vector<BlockEntry> entries(first_entry.back());
     tbb::parallel_for(std::size_t(0), prepared.size(), [&](std::size_t t) {
         std::size_t e = first_entry[t];
-        for_each_block(t, [&](const Entry& x) { entries[e++] = x; });
+        blocks_of(t, [&](const BlockEntry& x) { entries[e++] = x; });
     });
-    // A total order, so the parallel sort's result does not depend on the thread count.
-    tbb::parallel_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    tbb::parallel_sort(entries.begin(), entries.end(), [](const BlockEntry& a, const BlockEntry& b) {
         if (a.block != b.block) return a.block < b.block;
         return a.near2 < b.near2 || (a.near2 == b.near2 && a.tri < b.tri);
     });
+    return entries;
+}
+
+// Writes a batch of block distances into the grid and returns the voxels set or lowered. Leaves
+// for the blocks that change anything are made first (sequential: the tree's structure is not
+// thread-safe; a block in a tile is split into a leaf only if some value goes below the tile's,
+// or the tile is inactive), then filled in parallel.
+std::size_t write_blocks(openvdb::FloatGrid::Accessor& acc, const std::vector<BlockDistances>& blocks, std::size_t count,
+                         std::vector<openvdb::FloatTree::LeafNodeType*>& leaves) {
+    using LeafT = openvdb::FloatTree::LeafNodeType;
+    std::size_t written = 0;
+    for (std::size_t b = 0; b < count; ++b) {
+        const BlockDistances& bd = blocks[b];
+        leaves[b] = nullptr;
+        if (!bd.count) continue;
+        written += bd.count;
+        LeafT* leaf = acc.probeLeaf(bd.origin);
+        if (!leaf) {
+            const float tile = acc.getValue(bd.origin);
+            const bool active = acc.isValueOn(bd.origin);
+            bool change = false;
+            for (int off = 0; off < kLeafSize && !change; ++off)
+                change = bd.touched[off] && (!active || bd.value[off] < tile);
+            if (change) leaf = acc.touchLeaf(bd.origin);
+        }
+        leaves[b] = leaf;
+    }
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t b) {
+        LeafT* leaf = leaves[b];
+        if (!leaf) return;
+        const BlockDistances& bd = blocks[b];
+        for (int off = 0; off < kLeafSize; ++off) {
+            if (!bd.touched[off]) continue;
+            const float old = leaf->getValue(openvdb::Index(off));
+            if (bd.value[off] < old || !leaf->isValueOn(openvdb::Index(off)))
+                leaf->setValueOn(openvdb::Index(off), std::min(bd.value[off], old));
+        }
+    });
+    return written;
+}
+
+std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
+                                double half_width) {
+    const double thick = crack_half_thickness(r_f);
+    const double reach = half_width * r_f + thick;  // d < reach <=> value inside the band
+    std::vector<RasterTriangle> prepared;
+    prepared.reserve(tris.size());
+    for (const Triangle3& t : tris) prepared.emplace_back(t, r_f, reach);
+    const std::vector<BlockEntry> entries = block_entries(prepared, r_f, reach);
+    // The blocks in order, each with its triangles nearest first.
     std::vector<std::size_t> starts;
     for (std::size_t e = 0; e < entries.size(); ++e)
         if (e == 0 || entries[e].block != entries[e - 1].block) starts.push_back(e);
@@ -291,7 +356,7 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
     // In batches, so a huge sheet does not hold every block's distances at once.
     constexpr std::size_t kBatch = 4096;
     std::vector<BlockDistances> blocks(std::min(num_blocks, kBatch));
-    std::vector<LeafT*> leaves(blocks.size(), nullptr);
+    std::vector<openvdb::FloatTree::LeafNodeType*> leaves(blocks.size(), nullptr);
     auto acc = grid.getAccessor();
     std::size_t written = 0;
     for (std::size_t first = 0; first < num_blocks; first += kBatch) {
@@ -302,36 +367,7 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
             rasterise_block(blocks[b], prepared, order.data() + starts[g], order.data() + starts[g + 1],
                             grid.constTree().probeConstLeaf(blocks[b].origin), r_f, thick, reach);
         });
-        // Leaves for the blocks that change anything (sequential: the tree's structure is not
-        // thread-safe). A block in a tile is split into a leaf only if some value goes below
-        // the tile's, or the tile is inactive.
-        for (std::size_t b = 0; b < count; ++b) {
-            const BlockDistances& bd = blocks[b];
-            leaves[b] = nullptr;
-            if (!bd.count) continue;
-            written += bd.count;
-            LeafT* leaf = acc.probeLeaf(bd.origin);
-            if (!leaf) {
-                const float tile = acc.getValue(bd.origin);
-                const bool active = acc.isValueOn(bd.origin);
-                bool change = false;
-                for (int off = 0; off < kLeafSize && !change; ++off)
-                    change = bd.touched[off] && (!active || bd.value[off] < tile);
-                if (change) leaf = acc.touchLeaf(bd.origin);
-            }
-            leaves[b] = leaf;
-        }
-        tbb::parallel_for(std::size_t(0), count, [&](std::size_t b) {
-            LeafT* leaf = leaves[b];
-            if (!leaf) return;
-            const BlockDistances& bd = blocks[b];
-            for (int off = 0; off < kLeafSize; ++off) {
-                if (!bd.touched[off]) continue;
-                const float old = leaf->getValue(openvdb::Index(off));
-                if (bd.value[off] < old || !leaf->isValueOn(openvdb::Index(off)))
-                    leaf->setValueOn(openvdb::Index(off), std::min(bd.value[off], old));
-            }
-        });
+        written += write_blocks(acc, blocks, count, leaves);
     }
     return written;
 }
