@@ -106,186 +106,238 @@ std::vector<EdgeSifs> to_edge_sifs(const std::vector<bem::FrontEdgeSif>& sifs) {
     return out;
 }
 
-StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdgeSif>& sifs, const ScalarField& toughness,
-                          const LevelSet* object, const StepSettings& settings, const SubstepObserver& observer) {
-    if (!toughness.source) throw std::invalid_argument("propagate_step: no toughness field");
-    const double r_c = state.r_c, r_f = state.r_f;
-    if (!(r_f > 0) || !(r_c > r_f))
-        throw std::invalid_argument("propagate_step: the state needs 0 < r_f < r_c (got r_f = " + graph::format_number(r_f) +
-                                    " m, r_c = " + graph::format_number(r_c) + " m)");
-    PropagationSettings law = settings.law;
-    law.r_c = r_c;
-    law.r_f = r_f;
-    const int per_edge = markers_per_edge(r_c, r_f);
-    const int n = settings.substeps > 0 ? settings.substeps : per_edge;
-    for (const Vec3& v : state.cracks.vertices)
-        if (!v.allFinite()) throw std::invalid_argument("propagate_step: crack mesh has a non-finite vertex");
+namespace {
 
-    StepReport rep;
-    rep.substeps = n;
-    const std::vector<EdgeSifs> edges = to_edge_sifs(sifs);
-    std::set<std::pair<int, int>> have;
-    for (const EdgeSifs& e : edges) {
-        if (e.v0 < 0 || e.v1 < 0 || std::size_t(std::max(e.v0, e.v1)) >= state.cracks.num_vertices())
-            throw std::invalid_argument("SIF record for edge " + std::to_string(e.v0) + " -> " + std::to_string(e.v1) +
-                                        " names a vertex the crack mesh does not have: SIFs and state come from different runs");
-        have.insert(edge_key(e.v0, e.v1));
+// The passes of one BEM time step (propagate_step below calls them in order). The fronts that move
+// this step, the marker positions of the sub-step being recorded and the report are shared.
+class StepPasses {
+public:
+    StepPasses(FractureState& state, const ScalarField& toughness, const LevelSet* object, const StepSettings& settings)
+        : state_(state), toughness_(toughness), object_(object), settings_(settings) {}
+
+    // The state's resolutions, the propagation law for them and the sub-step count.
+    void check_and_set_up() {
+        if (!toughness_.source) throw std::invalid_argument("propagate_step: no toughness field");
+        const double r_c = state_.r_c, r_f = state_.r_f;
+        if (!(r_f > 0) || !(r_c > r_f))
+            throw std::invalid_argument("propagate_step: the state needs 0 < r_f < r_c (got r_f = " + graph::format_number(r_f) +
+                                        " m, r_c = " + graph::format_number(r_c) + " m)");
+        law_ = settings_.law;
+        law_.r_c = r_c;
+        law_.r_f = r_f;
+        per_edge_ = markers_per_edge(r_c, r_f);
+        n_ = settings_.substeps > 0 ? settings_.substeps : per_edge_;
+        for (const Vec3& v : state_.cracks.vertices)
+            if (!v.allFinite()) throw std::invalid_argument("propagate_step: crack mesh has a non-finite vertex");
+        rep_.substeps = n_;
     }
 
     // Fronts that move this step; their SIFs go to nodes and markers.
-    auto t0 = Clock::now();
-    std::vector<std::size_t> moving;
-    std::vector<char> planar_first(state.fronts.size(), 0);
-    for (std::size_t f = 0; f < state.fronts.size(); ++f) {
-        FrontState& fs = state.fronts[f];
-        if (!fs.fresh && !any_active(fs.markers)) {
-            ++rep.fronts_stopped;
-            continue;
+    void choose_moving_fronts(const std::vector<bem::FrontEdgeSif>& sifs) {
+        const std::vector<EdgeSifs> edges = to_edge_sifs(sifs);
+        std::set<std::pair<int, int>> have;
+        for (const EdgeSifs& e : edges) {
+            if (e.v0 < 0 || e.v1 < 0 || std::size_t(std::max(e.v0, e.v1)) >= state_.cracks.num_vertices())
+                throw std::invalid_argument("SIF record for edge " + std::to_string(e.v0) + " -> " + std::to_string(e.v1) +
+                                            " names a vertex the crack mesh does not have: SIFs and state come from different runs");
+            have.insert(edge_key(e.v0, e.v1));
         }
-        if (!has_all_edges(fs.front, have)) {
-            ++rep.fronts_waiting;
-            continue;
+        const auto t0 = Clock::now();
+        planar_first_.assign(state_.fronts.size(), 0);
+        for (std::size_t f = 0; f < state_.fronts.size(); ++f) {
+            FrontState& fs = state_.fronts[f];
+            if (!fs.fresh && !any_active(fs.markers)) {
+                ++rep_.fronts_stopped;
+                continue;
+            }
+            if (!has_all_edges(fs.front, have)) {
+                ++rep_.fronts_waiting;
+                continue;
+            }
+            assign_node_sifs(fs.front, edges);
+            if (fs.fresh) {
+                fs.markers = place_markers(fs.front, state_.cracks, per_edge_);
+                planar_first_[f] = 1;
+                fs.fresh = false;
+            } else {
+                interpolate_front_state(fs.markers, fs.front, true);
+            }
+            moving_.push_back(f);
         }
-        assign_node_sifs(fs.front, edges);
-        if (fs.fresh) {
-            fs.markers = place_markers(fs.front, state.cracks, per_edge);
-            planar_first[f] = 1;
-            fs.fresh = false;
-        } else {
-            interpolate_front_state(fs.markers, fs.front, true);
-        }
-        moving.push_back(f);
+        rep_.fronts_propagated = static_cast<int>(moving_.size());
+        group_into_rounds();
+        rep_.propagate_seconds += seconds_since(t0);
     }
-    rep.fronts_propagated = static_cast<int>(moving.size());
 
+    // The n sub-steps: markers advance, their strips are tested and recorded, markers re-spaced.
+    void run_substeps(const SubstepObserver& observer) {
+        CrackRecorder recorder(state_.grids);
+        for (std::size_t f : moving_) travelled_[f].assign(state_.fronts[f].markers.markers.size(), 0.0);
+        for (int k = 0; k < n_; ++k) {
+            auto t0 = Clock::now();
+            advance_markers(k);
+            rep_.propagate_seconds += seconds_since(t0);
+            t0 = Clock::now();
+            for (const std::vector<std::size_t>& round : rounds_) record_round(round, recorder);
+            rep_.record_seconds += seconds_since(t0);
+            t0 = Clock::now();
+            for (std::size_t f : moving_) respace(state_.fronts[f].markers);
+            rep_.propagate_seconds += seconds_since(t0);
+            if (observer) observer(k, recorder);
+        }
+        state_.grids = recorder.release();  // recording is done; growth only samples the grids
+    }
+
+    // New BEM elements (fig. 16), away from the object's surface and from other cracks.
+    void grow_fronts() {
+        const auto t0 = Clock::now();
+        const std::vector<LevelSet>& grids_now = state_.grids.cracks;
+        for (std::size_t f : moving_) {
+            FrontState& fs = state_.fronts[f];
+            const int own = fs.front.region;
+            GrowthSettings gs;
+            gs.r_c = state_.r_c;
+            gs.admissible = [&](const Vec3& p) {
+                if (object_ && sample(*object_, p) > -settings_.surface_margin) return false;
+                for (std::size_t c = 0; c < grids_now.size(); ++c)
+                    if (static_cast<int>(c) != own && sample(grids_now[c], p) < settings_.crack_margin) return false;
+                return true;
+            };
+            if (object_) gs.inside = [&](const Vec3& p) { return sample(*object_, p) < 0; };
+            const FrontGrowth g = grow_front(state_.cracks, fs.front, fs.markers, gs);
+            rep_.openings_estimated +=
+                estimate_openings_left_behind(state_.cracks, fs.front, g.front, law_.E, law_.nu, state_.openings);
+            fs.front = g.front;
+            fs.markers = g.markers;
+            rep_.elements_added += g.added_triangles;
+            rep_.vertices_added += g.added_vertices;
+            rep_.edges_kept += g.kept;
+            rep_.edges_split += g.split;
+            rep_.edges_contracted += g.contracted;
+        }
+        for (const auto& [f, d] : travelled_)
+            for (double x : d) rep_.max_marker_travel = std::max(rep_.max_marker_travel, x);
+        rep_.grow_seconds += seconds_since(t0);
+    }
+
+    // The state's step count, openings sized to the grown mesh, marker counts, simulated time.
+    StepReport finish() {
+        state_.openings.opening.resize(state_.cracks.num_vertices(), Vec3::Zero());
+        state_.openings.known.resize(state_.cracks.num_vertices(), 0);
+        state_.step += 1;
+        state_.elements_added = rep_.elements_added;
+        for (const FrontState& fs : state_.fronts) {
+            rep_.markers += fs.markers.markers.size();
+            for (const MarkerState& m : fs.markers.markers) rep_.active_markers += m.active ? 1 : 0;
+        }
+        rep_.simulated_time = n_ * substep_duration(state_.r_f, rayleigh_speed(law_.mu(), law_.rho));
+        return rep_;
+    }
+
+private:
     // Rounds of recording: one front per crack per round (a crack grid records one motion at a time).
-    std::vector<std::vector<std::size_t>> rounds;
-    {
+    void group_into_rounds() {
         std::map<int, int> seen;
-        for (std::size_t f : moving) {
-            const int r = seen[state.fronts[f].front.region]++;
-            if (r >= static_cast<int>(rounds.size())) rounds.resize(r + 1);
-            rounds[r].push_back(f);
+        for (std::size_t f : moving_) {
+            const int r = seen[state_.fronts[f].front.region]++;
+            if (r >= static_cast<int>(rounds_.size())) rounds_.resize(r + 1);
+            rounds_[r].push_back(f);
         }
+        for (std::size_t f : moving_)
+            if (state_.fronts[f].front.region < 0 || state_.fronts[f].front.region >= state_.num_cracks())
+                throw std::invalid_argument("front of crack " + std::to_string(state_.fronts[f].front.region) +
+                                            " has no crack grid (the state has " + std::to_string(state_.num_cracks()) + ")");
     }
-    for (std::size_t f : moving)
-        if (state.fronts[f].front.region < 0 || state.fronts[f].front.region >= state.num_cracks())
-            throw std::invalid_argument("front of crack " + std::to_string(state.fronts[f].front.region) +
-                                        " has no crack grid (the state has " + std::to_string(state.num_cracks()) + ")");
-    rep.propagate_seconds += seconds_since(t0);
 
-    CrackRecorder recorder(state.grids);
-    std::map<std::size_t, std::vector<double>> travelled;
-    for (std::size_t f : moving) travelled[f].assign(state.fronts[f].markers.markers.size(), 0.0);
-
-    for (int k = 0; k < n; ++k) {
-        t0 = Clock::now();
-        const double w_t = blend_weight(k, n);
-        // Forward Euler for every marker of every moving front (eq. 4.11); independent per marker.
-        std::map<std::size_t, std::vector<Vec3>> p0, p1;
-        std::map<std::size_t, std::vector<double>> theta;  // angle each marker moved at
-        for (std::size_t f : moving) {
-            FrontMarkers& fm = state.fronts[f].markers;
-            const bool planar = planar_first[f] && k == 0;
+    // Forward Euler for every marker of every moving front (eq. 4.11); independent per marker.
+    void advance_markers(int k) {
+        const double w_t = blend_weight(k, n_);
+        p0_.clear();
+        p1_.clear();
+        theta_.clear();
+        for (std::size_t f : moving_) {
+            FrontMarkers& fm = state_.fronts[f].markers;
+            const bool planar = planar_first_[f] && k == 0;
             align_frames_to_polyline(fm);
-            std::vector<Vec3>& a = p0[f];
-            std::vector<Vec3>& b = p1[f];
+            std::vector<Vec3>& a = p0_[f];
+            std::vector<Vec3>& b = p1_[f];
             a = fm.positions();
             b = a;
-            std::vector<double>& th = theta[f];
+            std::vector<double>& th = theta_[f];
             th.assign(fm.markers.size(), 0.0);
             tbb::parallel_for(std::size_t(0), fm.markers.size(), [&](std::size_t i) {
-                const MarkerStep st = marker_substep(fm.markers[i], toughness, law, w_t, planar);
+                const MarkerStep st = marker_substep(fm.markers[i], toughness_, law_, w_t, planar);
                 b[i] = a[i] + st.displacement;
                 th[i] = st.theta;
             });
         }
-        rep.propagate_seconds += seconds_since(t0);
-        // Geometry tests against the grids so far, then recording of the swept strips (ch. 6.2).
-        t0 = Clock::now();
-        for (const std::vector<std::size_t>& round : rounds) {
-            std::vector<FrontMotion> motions(state.num_cracks());
-            for (std::size_t f : round) {
-                FrontMotion& m = motions[state.fronts[f].front.region];
-                m.p0 = p0[f];
-                m.p1 = p1[f];
-                m.closed = state.fronts[f].markers.closed;
-            }
-            std::size_t written = 0;
-            const auto tests = recorder.record_substep(motions, object, &written);
-            rep.voxels_written += written;
-            for (std::size_t f : round) {
-                FrontMarkers& fm = state.fronts[f].markers;
-                const std::vector<MarkerTest>& t = tests[state.fronts[f].front.region];
-                for (std::size_t i = 0; i < fm.markers.size(); ++i) {
-                    MarkerState& m = fm.markers[i];
-                    if (!m.active) continue;
-                    if (t[i].hit == MarkerHit::none) {
-                        const Vec3 d = p1[f][i] - m.position;
-                        travelled[f][i] += d.norm();
-                        m.position = p1[f][i];
-                        if (d.squaredNorm() > 0) {  // remembered for eq. (4.12) in the next BEM step
-                            m.last_direction = d.normalized();
-                            m.last_theta = theta[f][i];
-                        }
-                        continue;
+    }
+
+    // Geometry tests against the grids so far, then recording of the swept strips (ch. 6.2), for
+    // the fronts of one round; markers that hit something stop (fig. 27).
+    void record_round(const std::vector<std::size_t>& round, CrackRecorder& recorder) {
+        std::vector<FrontMotion> motions(state_.num_cracks());
+        for (std::size_t f : round) {
+            FrontMotion& m = motions[state_.fronts[f].front.region];
+            m.p0 = p0_[f];
+            m.p1 = p1_[f];
+            m.closed = state_.fronts[f].markers.closed;
+        }
+        std::size_t written = 0;
+        const auto tests = recorder.record_substep(motions, object_, &written);
+        rep_.voxels_written += written;
+        for (std::size_t f : round) {
+            FrontMarkers& fm = state_.fronts[f].markers;
+            const std::vector<MarkerTest>& t = tests[state_.fronts[f].front.region];
+            for (std::size_t i = 0; i < fm.markers.size(); ++i) {
+                MarkerState& m = fm.markers[i];
+                if (!m.active) continue;
+                if (t[i].hit == MarkerHit::none) {
+                    const Vec3 d = p1_[f][i] - m.position;
+                    travelled_[f][i] += d.norm();
+                    m.position = p1_[f][i];
+                    if (d.squaredNorm() > 0) {  // remembered for eq. (4.12) in the next BEM step
+                        m.last_direction = d.normalized();
+                        m.last_theta = theta_[f][i];
                     }
-                    // Deactivated (fig. 27): the strip up to p1 is recorded so the crack meets the
-                    // other surface; the marker stays at p0, inside, so the coarse front does too.
-                    m.active = false;
-                    if (t[i].hit == MarkerHit::left_object) ++rep.hits_left_object;
-                    else if (t[i].hit == MarkerHit::crossed_crack) ++rep.hits_crossed_crack;
-                    else ++rep.hits_self_intersection;
+                    continue;
                 }
+                // Deactivated (fig. 27): the strip up to p1 is recorded so the crack meets the
+                // other surface; the marker stays at p0, inside, so the coarse front does too.
+                m.active = false;
+                if (t[i].hit == MarkerHit::left_object) ++rep_.hits_left_object;
+                else if (t[i].hit == MarkerHit::crossed_crack) ++rep_.hits_crossed_crack;
+                else ++rep_.hits_self_intersection;
             }
         }
-        rep.record_seconds += seconds_since(t0);
-        t0 = Clock::now();
-        for (std::size_t f : moving) respace(state.fronts[f].markers);
-        rep.propagate_seconds += seconds_since(t0);
-        if (observer) observer(k, recorder);
     }
 
-    // New BEM elements (fig. 16), away from the object's surface and from other cracks.
-    t0 = Clock::now();
-    state.grids = recorder.release();  // recording is done; growth only samples the grids
-    const std::vector<LevelSet>& grids_now = state.grids.cracks;
-    for (std::size_t f : moving) {
-        FrontState& fs = state.fronts[f];
-        const int own = fs.front.region;
-        GrowthSettings gs;
-        gs.r_c = r_c;
-        gs.admissible = [&](const Vec3& p) {
-            if (object && sample(*object, p) > -settings.surface_margin) return false;
-            for (std::size_t c = 0; c < grids_now.size(); ++c)
-                if (static_cast<int>(c) != own && sample(grids_now[c], p) < settings.crack_margin) return false;
-            return true;
-        };
-        if (object) gs.inside = [&](const Vec3& p) { return sample(*object, p) < 0; };
-        const FrontGrowth g = grow_front(state.cracks, fs.front, fs.markers, gs);
-        rep.openings_estimated += estimate_openings_left_behind(state.cracks, fs.front, g.front, law.E, law.nu, state.openings);
-        fs.front = g.front;
-        fs.markers = g.markers;
-        rep.elements_added += g.added_triangles;
-        rep.vertices_added += g.added_vertices;
-        rep.edges_kept += g.kept;
-        rep.edges_split += g.split;
-        rep.edges_contracted += g.contracted;
-    }
-    for (const auto& [f, d] : travelled)
-        for (double x : d) rep.max_marker_travel = std::max(rep.max_marker_travel, x);
-    rep.grow_seconds += seconds_since(t0);
+    FractureState& state_;
+    const ScalarField& toughness_;
+    const LevelSet* object_;
+    const StepSettings& settings_;
+    PropagationSettings law_;
+    int per_edge_ = 0, n_ = 0;  // markers per edge, sub-steps
+    StepReport rep_;
+    std::vector<std::size_t> moving_;
+    std::vector<char> planar_first_;
+    std::vector<std::vector<std::size_t>> rounds_;
+    std::map<std::size_t, std::vector<double>> travelled_;
+    // The sub-step being recorded: marker positions before and after, and the angle each moved at.
+    std::map<std::size_t, std::vector<Vec3>> p0_, p1_;
+    std::map<std::size_t, std::vector<double>> theta_;
+};
 
-    state.openings.opening.resize(state.cracks.num_vertices(), Vec3::Zero());
-    state.openings.known.resize(state.cracks.num_vertices(), 0);
-    state.step += 1;
-    state.elements_added = rep.elements_added;
-    for (const FrontState& fs : state.fronts) {
-        rep.markers += fs.markers.markers.size();
-        for (const MarkerState& m : fs.markers.markers) rep.active_markers += m.active ? 1 : 0;
-    }
-    rep.simulated_time = n * substep_duration(r_f, rayleigh_speed(law.mu(), law.rho));
-    return rep;
+}  // namespace
+
+StepReport propagate_step(FractureState& state, const std::vector<bem::FrontEdgeSif>& sifs, const ScalarField& toughness,
+                          const LevelSet* object, const StepSettings& settings, const SubstepObserver& observer) {
+    StepPasses step(state, toughness, object, settings);
+    step.check_and_set_up();
+    step.choose_moving_fronts(sifs);
+    step.run_substeps(observer);
+    step.grow_fronts();
+    return step.finish();
 }
 
 }  // namespace cf::propagate
