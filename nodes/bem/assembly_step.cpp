@@ -1,5 +1,7 @@
 #include "nodes/bem/assembly_step.hpp"
 
+#include "nodes/bem/tip_elements.hpp"
+
 #include <stdexcept>
 #include <string>
 
@@ -40,9 +42,16 @@ BemOperators assemble_step(const AssemblyRequest& rq, AssemblyReport& rep) {
                                         "; set it on the first assembly only");
         out.method = prev->method;
         out.switch_elements = prev->switch_elements;
+        if (rq.tip_elements && *rq.tip_elements != prev->tip_elements)
+            throw std::invalid_argument(std::string("parameter 'front_elements' is ") + (*rq.tip_elements ? "square_root" : "linear") +
+                                        " but the previous operators were assembled with " +
+                                        (prev->tip_elements ? "square_root" : "linear") +
+                                        "; set it on the first assembly only (the loop's assemble inherits it)");
+        out.tip_elements = prev->tip_elements;
     } else {
         out.method = rq.method.value_or(CrackMethod::full);
         out.switch_elements = rq.switch_elements;
+        out.tip_elements = rq.tip_elements.value_or(false);
     }
     if (out.switch_elements < 0)
         throw std::invalid_argument("parameter 'switch_elements' is " + std::to_string(out.switch_elements) +
@@ -99,6 +108,11 @@ BemOperators assemble_step(const AssemblyRequest& rq, AssemblyReport& rep) {
     if (has_cracks) {
         out.cracks = append_crack_elements(*out.surface, prev_cracks, *rq.cracks);
         rep.crack_pairs = static_cast<std::size_t>(out.cracks->pairs_computed_last);
+        if (out.tip_elements) {
+            // The front moves every step: the square-root blocks are re-integrated from the P1 base.
+            out.tip = tip_crack_operators(*out.surface, *out.cracks);
+            rep.tip_pairs = static_cast<std::size_t>(out.tip->tip_pairs_computed);
+        }
     }
     return out;
 }

@@ -23,6 +23,8 @@ struct AssemblyRequest {
     long long switch_elements = 0;                 // hybrid threshold (elements), used with method hybrid
     int step = 0;                                  // BEM step, for the report of the switch
     bool opening_update = true;                    // false: estimated openings do not update the surface (fig. 22a)
+    std::optional<bool> tip_elements;              // square-root crack-front elements (full BEM only); empty: the
+                                                   // previous operators' choice, or linear on a first assembly
 };
 
 struct AssemblyReport {
@@ -31,6 +33,7 @@ struct AssemblyReport {
     bool estimated = false;         // growth is estimated (now or before)
     std::size_t elements = 0;       // surface + crack triangles
     std::size_t crack_pairs = 0;    // crack element pairs integrated (system blocks or estimated openings)
+    std::size_t tip_pairs = 0;      // element pairs re-integrated with square-root front elements
 };
 
 // Throws std::invalid_argument with the parameter or input to fix: a method that contradicts the

@@ -51,9 +51,16 @@ graph::NodeType assemble_node() {
     t.param_bool("opening_update", true,
                  "estimated growth: integrate the estimated openings into the surface's right-hand side (ch. 5.2); false "
                  "keeps the surface data of the switch, which underestimates K as the crack grows (thesis fig. 22a)");
+    t.param_choice("front_elements", "inherit", {"inherit", "linear", "square_root"},
+                   "crack elements along every front: linear (P1, zero opening at the front; sif.fronts correlates "
+                   "displacements as the thesis does) or square_root (elements whose front unknowns are the coefficients "
+                   "of sqrt(distance); sif.fronts reads K from them: front-average K_I within 0.5 % on the penny crack; "
+                   "docs/architecture.md). Full BEM only (estimated growth uses the estimator). inherit = linear on a "
+                   "first assembly, the previous operators' choice with 'previous'; set it on the first assembly");
     t.run([](graph::NodeContext& c) {
         bem::AssemblyRequest rq;
         rq.opening_update = c.boolean("opening_update");
+        if (c.string("front_elements") != "inherit") rq.tip_elements = c.string("front_elements") == "square_root";
         rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
         rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
         rq.options.single_layer = c.boolean("single_layer");
@@ -78,6 +85,7 @@ graph::NodeType assemble_node() {
         c.count("surface_reused", rep.surface_reused ? 1 : 0);
         c.count("surface_pairs_computed", rep.surface_reused ? 0.0 : static_cast<double>(out.surface->pairs_computed));
         c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
+        c.count("tip_pairs_computed", static_cast<double>(rep.tip_pairs));
         if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
         c.count("elements", static_cast<double>(rep.elements));
         c.count("growth_estimated", rep.estimated ? 1 : 0);
@@ -122,7 +130,7 @@ graph::NodeType solve_node() {
             if (ops.cracks) loads.pressure.assign(ops.cracks->cracks.num_regions(), c.real("crack_pressure"));
             bem::SolveOptions so;
             so.balance_tolerance = c.real("balance_tolerance");
-            sol = bem::solve_sgbem(ops.surface, ops.cracks, bc, loads, prev, so, ops.estimated);
+            sol = bem::solve_sgbem(ops.surface, ops.solve_cracks(), bc, loads, prev, so, ops.estimated);
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("parameter boundary_conditions / inputs: ") + e.what());
         } catch (const std::runtime_error& e) {

@@ -16,6 +16,13 @@ struct BemOperators {
     CrackMethod method = CrackMethod::full;        // chosen on the first assembly, kept by every later one
     long long switch_elements = 0;                 // hybrid: elements (surface + crack) above which growth is estimated
     std::shared_ptr<const EstimatedGrowth> estimated;  // null while every crack opening is a BEM unknown
+    // Square-root crack-front elements (assemble.sgbem front_elements: square_root): the crack blocks of
+    // `cracks` with every pair touching the current front re-integrated (tip_elements.hpp); null with
+    // linear front elements or once growth is estimated. `cracks` stays the append-only P1 base.
+    std::shared_ptr<const CrackOperators> tip;
+    bool tip_elements = false;                     // chosen on the first assembly, kept by every later one
+    // The crack blocks a solve uses.
+    const std::shared_ptr<const CrackOperators>& solve_cracks() const { return tip ? tip : cracks; }
 };
 
 }  // namespace cf::bem

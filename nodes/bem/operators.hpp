@@ -12,6 +12,7 @@
 #include "nodes/domain/surface_mesh.hpp"
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -52,6 +53,12 @@ struct CrackOperators {
     Matrix HY;  // upper part: Y = HY + HY^T
     std::int64_t pairs_computed = 0;        // over the whole history of appends
     std::int64_t pairs_computed_last = 0;   // in the last append
+    // Square-root crack-front elements (tip_elements.hpp): the blocks above are those of the
+    // square-root basis, every node with a basis function is an unknown, and basis_integral holds
+    // int psi_a over each element (local order) for face loads. False: plain P1 (front COD 0).
+    bool tip_elements = false;
+    std::vector<std::array<double, 3>> basis_integral;
+    std::int64_t tip_pairs_computed = 0;    // element pairs integrated with the square-root basis
     Matrix Y() const { return HY + HY.transpose(); }
 };
 

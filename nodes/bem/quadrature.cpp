@@ -26,9 +26,19 @@ void gauss_legendre_01(int n, std::vector<double>& points, std::vector<double>& 
     }
 }
 
-TriangleRule collapsed_gauss_triangle_rule(int n) {
+void graded_gauss_01(int n, std::vector<double>& points, std::vector<double>& weights) {
+    gauss_legendre_01(n, points, weights);
+    for (int k = 0; k < n; ++k) {
+        const double w = points[k];
+        points[k] = w * w * (3 - 2 * w);
+        weights[k] *= 6 * w * (1 - w);
+    }
+}
+
+TriangleRule collapsed_gauss_triangle_rule(int n, bool graded) {
     std::vector<double> g, w;
-    gauss_legendre_01(n, g, w);
+    if (graded) graded_gauss_01(n, g, w);
+    else gauss_legendre_01(n, g, w);
     TriangleRule r;
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
@@ -57,10 +67,11 @@ TriangleRule symmetric_triangle_rule_6() {
     return r;
 }
 
-PairRule sauter_schwab_rule(PairKind kind, int n) {
+PairRule sauter_schwab_rule(PairKind kind, int n, bool graded) {
     if (kind == PairKind::separated) throw std::invalid_argument("sauter_schwab_rule: separated pairs use regular rules");
     std::vector<double> g, gw;
-    gauss_legendre_01(n, g, gw);
+    if (graded) graded_gauss_01(n, g, gw);
+    else gauss_legendre_01(n, g, gw);
     PairRule r;
     // Points on S = {0 <= x2 <= x1 <= 1} mapped to (s,t) = (x1 - x2, x2) (unit Jacobian).
     auto add = [&](double x1, double x2, double y1, double y2, double w) {

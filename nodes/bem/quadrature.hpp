@@ -15,8 +15,14 @@ struct TriangleRule {
     std::size_t size() const { return w.size(); }
 };
 
-// Collapsed (Duffy) Gauss rule with n*n points; exact for polynomials of degree 2n-2.
-TriangleRule collapsed_gauss_triangle_rule(int n);
+// n-point Gauss-Legendre rule on [0, 1] composed with the endpoint-graded map v = w^2 (3 - 2 w)
+// (weights times 6 w (1 - w)): integrands with v^(-1/2) or (1 - v)^(-1/2) endpoint singularities
+// become smooth in w (square-root crack-front elements, tip_elements.hpp).
+void graded_gauss_01(int n, std::vector<double>& points, std::vector<double>& weights);
+
+// Collapsed (Duffy) Gauss rule with n*n points; exact for polynomials of degree 2n-2. graded: both
+// directions use graded_gauss_01, so 1/sqrt singularities on the triangle's edges and corners are absorbed.
+TriangleRule collapsed_gauss_triangle_rule(int n, bool graded = false);
 // Symmetric rules: 3 points (degree 2) and 6 points (degree 4, Strang-Fix/Dunavant).
 TriangleRule symmetric_triangle_rule_3();
 TriangleRule symmetric_triangle_rule_6();
@@ -31,7 +37,10 @@ struct PairRule {
     std::vector<double> sx, tx, sy, ty, w;
     std::size_t size() const { return w.size(); }
 };
-PairRule sauter_schwab_rule(PairKind kind, int n);
+// graded: every one of the four directions uses graded_gauss_01. The triangles' edges lie on faces,
+// edges or corners of the unit 4-cube of these rules, so a factor 1/sqrt(distance to an edge) on either
+// triangle (square-root front elements) is absorbed as well as the 1/r of the pair.
+PairRule sauter_schwab_rule(PairKind kind, int n, bool graded = false);
 
 // Far-field zoning by rho = distance(centroids) / max(diameters). Zone rules, from cheapest:
 // 3-point (degree 2), 6-point (degree 4), then collapsed Gauss 4x4, 5x5, 6x6, 7x7, 8x8, 10x10 (the 3x3

@@ -292,8 +292,9 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
         auto schur = std::make_shared<CrackSchur>();
         schur->crack_triangles = cr.cracks.num_triangles();
         const CrackSchur* old = previous ? previous->schur.get() : nullptr;
-        bool extend = options.extend_schur && old && previous->system == sol->system && previous->cracks &&
-                      old->crack_triangles <= cr.cracks.num_triangles();
+        // Square-root front elements change the basis of every node near the front each step: no extension.
+        bool extend = options.extend_schur && !cr.tip_elements && old && previous->system == sol->system && previous->cracks &&
+                      !previous->cracks->tip_elements && old->crack_triangles <= cr.cracks.num_triangles();
         if (extend) {
             std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
             for (int v : old->dof_nodes) {
@@ -344,8 +345,20 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                 sol->schur_rows_added = static_cast<std::size_t>(kn);
             }
         } else {
-            for (std::size_t v = 0; v < interior.size(); ++v)
-                if (interior[v]) schur->dof_nodes.push_back(static_cast<int>(v));
+            if (cr.tip_elements) {
+                // Every node of an element where rho is not identically 0 carries a basis function.
+                std::vector<char> carries(interior.size(), 0);
+                for (const Tri& t : cr.cracks.triangles) {
+                    const bool all_front = !interior[t[0]] && !interior[t[1]] && !interior[t[2]];
+                    if (!all_front)
+                        for (int v : t) carries[v] = 1;
+                }
+                for (std::size_t v = 0; v < interior.size(); ++v)
+                    if (carries[v]) schur->dof_nodes.push_back(static_cast<int>(v));
+            } else {
+                for (std::size_t v = 0; v < interior.size(); ++v)
+                    if (interior[v]) schur->dof_nodes.push_back(static_cast<int>(v));
+            }
             if (schur->dof_nodes.empty())
                 throw std::invalid_argument("the crack mesh has no interior node, so it carries no opening unknown; every crack "
                                             "needs at least one node off its front");
@@ -365,7 +378,10 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
         for (std::size_t e = 0; e < cr.geometry.size(); ++e) {
             const int r = cr.cracks.region_of(e);
             const double p = r < static_cast<int>(loads.pressure.size()) ? loads.pressure[r] : 0.0;
-            for (int v : cr.geometry[e].nodes) load.segment<3>(3 * v) -= p * cr.geometry[e].area / 3 * cr.geometry[e].normal;
+            for (int k = 0; k < 3; ++k) {
+                const double area = cr.tip_elements ? cr.basis_integral[e][k] : cr.geometry[e].area / 3;  // int psi_k
+                load.segment<3>(3 * cr.geometry[e].nodes[k]) -= p * area * cr.geometry[e].normal;
+            }
         }
         Vector gc = load(ic) - cr.W(Eigen::all, ic).transpose() * f - cr.X(Eigen::all, ic).transpose() * g;
         gc -= coupling_c_times(sys, cr, schur->dof_nodes, s);
@@ -374,6 +390,15 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
         s -= schur->Z * w;
         cod.assign(cr.cracks.num_vertices(), Vec3::Zero());
         for (std::size_t k = 0; k < schur->dof_nodes.size(); ++k) cod[schur->dof_nodes[k]] = -w.segment<3>(3 * k);
+        if (cr.tip_elements) {
+            // Front nodes carry square-root coefficients, not openings: the opening there is 0.
+            sol->front_coefficient.assign(cod.size(), Vec3::Zero());
+            for (std::size_t v = 0; v < cod.size(); ++v)
+                if (!interior[v]) {
+                    sol->front_coefficient[v] = cod[v];
+                    cod[v] = Vec3::Zero();
+                }
+        }
         sol->schur = schur;
     }
     sol->crack_opening = std::move(cod);

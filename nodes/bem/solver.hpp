@@ -59,6 +59,10 @@ struct BemSolution {
     std::vector<Vec3> displacement;                   // per surface node [m]
     std::vector<Vec3> traction;                       // per surface element [Pa]
     std::vector<Vec3> crack_opening;                  // per node of cracks->cracks, [u] = u+ - u- (0 at the front) [m]
+    // With square-root front elements (cracks->tip_elements): per node of cracks->cracks, the front
+    // nodes' square-root coefficients (the opening is sqrt(rho) times the P1 field of these at the
+    // front and crack_opening elsewhere; tip_elements.hpp) [m]; 0 off the front. Empty without.
+    std::vector<Vec3> front_coefficient;
     // Growth past the system (thesis ch. 5.2): the whole current crack mesh with estimated openings;
     // null while every crack opening is a BEM unknown. `cracks` above is then the frozen part.
     std::shared_ptr<const EstimatedGrowth> estimated;

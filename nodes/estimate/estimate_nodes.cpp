@@ -3,6 +3,7 @@
 // is estimated, so the hybrid switch needs no re-wiring), and sif.estimator (always the estimator).
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
+#include "nodes/bem/tip_elements.hpp"
 #include "nodes/domain/material.hpp"
 #include "nodes/estimate/sif_estimator.hpp"
 #include "nodes/registration.hpp"
@@ -69,8 +70,9 @@ void report(graph::NodeContext& c, const bem::BemSolution& sol, const SurfaceMes
 
 graph::NodeType fronts_node() {
     graph::NodeType t("sif.fronts",
-                      "Stress-intensity factors per crack-front edge for a fracture loop: by displacement correlation "
-                      "(eq. 2.39) while the solution's crack openings are BEM unknowns, by the estimator of ch. 5.1 once "
+                      "Stress-intensity factors per crack-front edge for a fracture loop: while the solution's crack openings "
+                      "are BEM unknowns, from the square-root front elements' coefficients when assemble.sgbem used them "
+                      "(front_elements: square_root), else by displacement correlation (eq. 2.39); by the estimator of ch. 5.1 once "
                       "growth is estimated (assemble.sgbem method estimator, or hybrid past its threshold), so the hybrid "
                       "switch needs no re-wiring. Without cracks it gives no record (new fronts wait).");
     declare_estimator_params(t);
@@ -85,7 +87,10 @@ graph::NodeType fronts_node() {
                     sifs = estimate::estimate_sifs(sol, *cracks, settings_of(c), &rep, &sol.estimated->front_active);
             } else if (cracks && cracks->num_triangles() > 0) {
                 const double mu = sol.surface->elastic.mu, nu = sol.surface->elastic.nu;
-                sifs = bem::displacement_correlation_sifs(*cracks, sol.crack_opening, 2 * mu * (1 + nu), nu);
+                if (!sol.front_coefficient.empty())  // square-root front elements: K from their coefficients
+                    sifs = bem::tip_element_sifs(*cracks, sol.front_coefficient, 2 * mu * (1 + nu), nu);
+                else
+                    sifs = bem::displacement_correlation_sifs(*cracks, sol.crack_opening, 2 * mu * (1 + nu), nu);
             }
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("input 'solution' crack sheets: ") + e.what());

@@ -36,6 +36,9 @@ TEST(BemVerification, cube_tension_mixed) { expect_case("cube_tension_mixed"); }
 TEST(BemVerification, sphere_radial_traction) { expect_case("sphere_radial_traction"); }
 TEST(BemVerification, penny_crack_opening) { expect_case("penny_crack_opening"); }
 TEST(BemVerification, penny_crack_sif) { expect_case("penny_crack_sif"); }
+TEST(BemVerification, penny_crack_sif_displacement_correlation) { expect_case("penny_crack_sif_displacement_correlation"); }
+TEST(BemVerification, elliptical_crack_sif) { expect_case("elliptical_crack_sif"); }
+TEST(BemVerification, penny_crack_energy) { expect_case("penny_crack_energy"); }
 
 namespace {
 Material unit_material() {

@@ -1,0 +1,90 @@
+#pragma once
+// Square-root crack-front elements (issue 13; Li, Mear & Xiao 1998 style, adapted to P1 triangles).
+//
+// The crack opening is the P1 field of all crack nodes, front nodes included, times sqrt(rho):
+//   [u](x) = sqrt(rho(x)) * sum_i u_i lambda_i(x),   rho(x) = sum over NON-front nodes i of lambda_i(x).
+// rho is 0 on the front, 1 at every node off it, so the field is plain P1 on elements without a front
+// node. On a front triangle (front edge j-k, third node m) rho = lambda_m = d / H (d the distance
+// behind the edge, H the triangle's height over it), and with xi along the edge
+//   [u] = sqrt(rho) (1 - rho) [(1 - xi) u_j + xi u_k] + rho^(3/2) u_m,
+// the element of the issue with a_j = u_j / sqrt(H): the nodal part of m carries rho^(3/2) (no
+// linear term beside the square root, the blending problem of a plain sqrt(rho)-times-hat
+// enrichment), and the front nodes' values u_j are square-root coefficients. The field is
+// continuous (rho and the hats are), vanishes on the front, so the regularised hypersingular form
+// (sgbem-math.md §2) stays valid. Near the front [u] = u(xi) sqrt(d / H), hence (sgbem-math §5)
+//   K_I = E / (8 (1 - nu^2)) sqrt(2 pi / H) u(xi).e2, K_II with e1, K_III = E / (8 (1 + nu)) sqrt(2 pi / H) u(xi).e3.
+//
+// Curls are no longer constant on elements with a front node:
+//   curl(sqrt(rho) lambda_a) = sqrt(rho) c_a + lambda_a / (2 sqrt(rho)) c_rho,
+// with an integrable 1/sqrt(rho) singularity on the front edge (or at the front node). Quadrature
+// composes every 1D Gauss rule with the endpoint-graded map v = w^2 (3 - 2w) (graded_gauss_01, the
+// issue's rho = s^2 substitution applied in every direction): the Sauter-Schwab rules of touching
+// pairs and the collapsed Gauss rules of separated ones place the triangles' edges on faces of their
+// parameter cubes, so the square-root factors become smooth there, while the 1/r of the pair is
+// handled by the Sauter-Schwab maps as for P1.
+#include "nodes/bem/displacement_correlation.hpp"
+#include "nodes/bem/operators.hpp"
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace cf::bem {
+
+// How rho behaves on a crack element: plain (no front node, rho = 1), edge (two front nodes, rho =
+// lambda of the third, local index `local`), vertex (one front node, rho = 1 - lambda of it, local index
+// `local`), zero (three front nodes: rho = 0, every basis function vanishes).
+struct TipElementKind {
+    enum Type { plain, edge, vertex, zero } type = plain;
+    int local = -1;
+};
+
+struct TipBasis {
+    std::vector<char> front;             // per crack node: on the sheet's boundary
+    std::vector<TipElementKind> kind;    // per crack element
+};
+TipBasis tip_basis(const SurfaceMesh& cracks);
+
+// Values at one reference point (s, t) of an element (local order of the element's nodes): the
+// barycentric coordinates, the physical point, sqrt(rho), lambda_a / (2 sqrt(rho)) (0 on plain
+// elements) and the basis values sqrt(rho) lambda_a.
+struct TipPoint {
+    std::array<double, 3> lambda{};
+    Vec3 x;
+    double sq = 1;
+    std::array<double, 3> q{};
+    std::array<double, 3> psi{};
+};
+TipPoint tip_point(const ElementGeometry& g, const TipElementKind& k, double s, double t);
+
+// Curl of rho on an element (0 for plain and zero elements).
+Vec3 rho_curl(const ElementGeometry& g, const TipElementKind& k);
+
+// Blocks of one element pair with the square-root basis on both (plain elements are plain P1):
+// H[alpha][beta] = <D psi_beta e_j, psi_alpha e_i> (test a, trial b), and Kb[beta] = K[a, (b, beta)]
+// (a is then a P0 test element of another mesh). `same_mesh`: a and b index the same vertices (touching
+// pairs use Sauter-Schwab). n: Gauss points per direction of the singular rules.
+struct TipPairBlocks {
+    std::array<std::array<Mat3, 3>, 3> H;
+    std::array<Mat3, 3> Kb;
+};
+void tip_pair_blocks(const ElementGeometry& a, const TipElementKind& ka, const ElementGeometry& b, const TipElementKind& kb,
+                     bool same_mesh, int n, const ElasticConstants& c, bool want_k, TipPairBlocks& out);
+
+// Scalar test integral int_a int_b f(x) g(y) / r with f, g chosen among {sqrt(rho), lambda_a / (2 sqrt rho)}
+// (index 0: sqrt(rho), 1 + a: lambda_a / (2 sqrt(rho))), for the quadrature unit tests.
+double tip_pair_scalar(const ElementGeometry& a, const TipElementKind& ka, int fa, const ElementGeometry& b,
+                       const TipElementKind& kb, int fb, bool same_mesh, int n);
+
+// The crack blocks with square-root front elements: a copy of the P1 blocks of `p1` in which every
+// pair with an element touching the front is replaced (P1 contribution subtracted, square-root one
+// added). Every crack node that carries a basis function is an unknown (front nodes included).
+// `basis_integral` holds int psi_a per element for face loads.
+std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1);
+
+// SIFs per front edge at the edge's midpoint from the front nodes' square-root coefficients (the
+// solution's front_coefficient), with the same tip frame as displacement correlation.
+std::vector<FrontEdgeSif> tip_element_sifs(const SurfaceMesh& cracks, const std::vector<Vec3>& front_coefficient, double E,
+                                           double nu);
+
+}  // namespace cf::bem
