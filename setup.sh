@@ -8,7 +8,7 @@ PACKAGES=(cmake ninja-build g++ pkg-config
           libeigen3-dev libopenvdb-dev libboost-iostreams-dev libtbb-dev libyaml-cpp-dev libcli11-dev
           libcgal-dev libcgal-demo libgmp-dev libmpfr-dev libbullet-dev libpng-dev
           libgtest-dev libgmock-dev libbenchmark-dev
-          libtinygltf-dev python3-vtk9
+          libtinygltf-dev python3-vtk9 python3-openvdb
           slurmctld slurmd slurm-client munge)  # the Slurm batch test: a one-node cluster on loopback
 
 install_missing() {

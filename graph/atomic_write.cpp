@@ -1,12 +1,87 @@
 #include "graph/atomic_write.hpp"
 
 #include <atomic>
-#include <fstream>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
 #include <stdexcept>
+#include <streambuf>
 #include <system_error>
 #include <unistd.h>
+#include <vector>
 
 namespace cf::graph {
+
+namespace {
+
+// A file stream buffer that keeps the first OS error of any write and of the close, so the
+// message can name it ("File too large", "No space left on device") instead of guessing; an
+// std::ofstream only says that something failed, and its close is not checked at all.
+class CheckedFileBuffer : public std::streambuf {
+public:
+    explicit CheckedFileBuffer(const std::filesystem::path& path) : buffer_(1 << 16) {
+        fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        if (fd_ < 0) error_ = errno;
+        setp(buffer_.data(), buffer_.data() + buffer_.size());
+    }
+    ~CheckedFileBuffer() override {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    bool is_open() const { return fd_ >= 0; }
+    int error() const { return error_; }
+    // Writes what is buffered and closes; false (with error() set) if any write or the close failed.
+    bool close() {
+        drain();
+        if (fd_ >= 0 && ::close(fd_) != 0 && error_ == 0) error_ = errno;
+        fd_ = -1;
+        return error_ == 0;
+    }
+
+protected:
+    int_type overflow(int_type ch) override {
+        if (!drain()) return traits_type::eof();
+        if (!traits_type::eq_int_type(ch, traits_type::eof())) {
+            *pptr() = traits_type::to_char_type(ch);
+            pbump(1);
+        }
+        return traits_type::not_eof(ch);
+    }
+    int sync() override { return drain() ? 0 : -1; }
+    // Seekable like a file (OpenVDB's archive writer goes back to fill in grid offsets).
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+        if (!drain()) return pos_type(off_type(-1));
+        const int whence = dir == std::ios_base::beg ? SEEK_SET : dir == std::ios_base::cur ? SEEK_CUR : SEEK_END;
+        const off_t at = ::lseek(fd_, static_cast<off_t>(off), whence);
+        if (at < 0) return pos_type(off_type(-1));
+        return pos_type(off_type(at));
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode which) override {
+        return seekoff(off_type(pos), std::ios_base::beg, which);
+    }
+
+private:
+    bool drain() {
+        const char* p = pbase();
+        std::size_t left = static_cast<std::size_t>(pptr() - pbase());
+        while (left > 0 && error_ == 0 && fd_ >= 0) {
+            const ssize_t n = ::write(fd_, p, left);
+            if (n < 0) {
+                if (errno == EINTR) continue;
+                error_ = errno;
+            } else {
+                p += n;
+                left -= static_cast<std::size_t>(n);
+            }
+        }
+        setp(buffer_.data(), buffer_.data() + buffer_.size());
+        return error_ == 0;
+    }
+    std::vector<char> buffer_;
+    int fd_ = -1;
+    int error_ = 0;
+};
+
+}  // namespace
 
 static std::filesystem::path temp_name(const std::filesystem::path& path) {
     static std::atomic<unsigned> counter{0};
@@ -48,11 +123,17 @@ void write_atomically_via_path(const std::filesystem::path& path,
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
     write_atomically_via_path(path, [&](const std::filesystem::path& tmp) {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) throw std::runtime_error("cannot open " + path.string() + " for writing (check the directory exists and is writable)");
+        CheckedFileBuffer buffer(tmp);
+        if (!buffer.is_open())
+            throw std::runtime_error("cannot open " + path.string() + " for writing: " + std::strerror(buffer.error()) +
+                                     " (check the directory exists and is writable)");
+        std::ostream f(&buffer);
         write(f);
         f.flush();
-        if (!f) throw std::runtime_error("error while writing " + path.string() + " (disk full?)");
+        if (!buffer.close() || !f)
+            throw std::runtime_error("error while writing " + path.string() + ": " +
+                                     (buffer.error() ? std::strerror(buffer.error()) : "the writer's stream failed") +
+                                     " (is the disk full or a file-size limit set?); nothing was written under that name");
     });
 }
 

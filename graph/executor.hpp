@@ -13,6 +13,9 @@
 
 namespace cf::graph {
 
+// Runs of one node whose intervals and per-iteration counts are kept (see NodeStats).
+constexpr int kMaxRecordedRuns = 10000;
+
 struct NodeStats {
     std::string name;
     std::string type;  // "loop" for loops
@@ -20,8 +23,8 @@ struct NodeStats {
     double wall_seconds = 0;       // summed over runs
     long long peak_rss_bytes = 0;  // process peak resident set after this node's last run
     std::map<std::string, double> counts;                      // of the last run
-    std::vector<std::map<std::string, double>> iteration_counts;  // per run, for per-iteration nodes
-    std::vector<std::pair<double, double>> intervals;          // [start, end] of each run, seconds since start
+    std::vector<std::map<std::string, double>> iteration_counts;  // per run, for per-iteration nodes (first kMaxRecordedRuns)
+    std::vector<std::pair<double, double>> intervals;          // [start, end] of each run (first kMaxRecordedRuns)
 };
 
 struct ExecutionResult {

@@ -31,13 +31,18 @@ std::filesystem::path NodeContext::output_path(const std::string& pattern) const
         path.replace(pos, tag.size(), buf);
     }
     std::filesystem::path p = path;
-    if (!p.is_relative()) return p;
+    if (!p.is_relative()) {
+        if (!options_.allow_absolute_paths)
+            fail("output path '" + pattern + "' is absolute; outputs go inside the output directory (" +
+                 options_.output_dir.string() + "): use a relative name, or run with --allow-absolute-paths");
+        return p;
+    }
     // A relative output path stays inside the output directory, and the run's own report is not
     // an output name a node may take (it would be overwritten when the run ends).
     const std::filesystem::path rel = p.lexically_normal();
     if (rel.empty() || *rel.begin() == "..")
         fail("output path '" + pattern + "' leaves the output directory (" + options_.output_dir.string() +
-             "); use a name inside it, or an absolute path");
+             "); use a name inside it (or an absolute path with --allow-absolute-paths)");
     if (rel == "report.json")
         fail("output path '" + pattern + "' is the run's report.json, which the run writes last; choose another name");
     return options_.output_dir / rel;

@@ -1,6 +1,7 @@
 #pragma once
 // What a node's run function sees: its typed inputs, validated parameters, and ways to emit
 // outputs, report counts, show progress and notice cancellation.
+#include "graph/cancel_token.hpp"
 #include "graph/node_type.hpp"
 #include "graph/registry.hpp"
 
@@ -17,10 +18,8 @@ namespace cf::graph {
 struct NodeError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
-// Thrown when the run was cancelled (Ctrl-C or another node failed).
-struct Cancelled : std::runtime_error {
-    Cancelled() : std::runtime_error("cancelled") {}
-};
+// Thrown when the run was cancelled (Ctrl-C or another node failed); see graph/cancel_token.hpp.
+using Cancelled = cf::Cancelled;
 
 struct RunOptions {
     std::filesystem::path output_dir = ".";
@@ -32,6 +31,9 @@ struct RunOptions {
     // cases read them). `crackflow run` turns it off so a value is freed once its consumers are done
     // (the last BEM step's dense blocks during segmentation, for instance).
     bool keep_outputs = true;
+    // Absolute output paths are accepted (library callers, tests); `crackflow run` refuses them
+    // unless given --allow-absolute-paths, so that every output lands inside --out.
+    bool allow_absolute_paths = true;
     // Set by the executor from the plan when empty: the directory of the pipeline file (relative
     // paths of sub-pipelines resolve against it) and the registry the plan was loaded with.
     std::filesystem::path pipeline_dir;
@@ -78,10 +80,9 @@ public:
         if (options_.on_progress) options_.on_progress(name_, fraction);
     }
     // Long loops call this now and then; throws Cancelled after Ctrl-C or a failure elsewhere.
-    void check_cancelled() const {
-        if (options_.cancel_flag && options_.cancel_flag->load()) throw Cancelled();
-        if (options_.outer_cancel_flag && options_.outer_cancel_flag->load()) throw Cancelled();
-    }
+    void check_cancelled() const { cancel_token().poll(); }
+    // The same check for plain algorithms (they take the token, not the context).
+    CancelToken cancel_token() const { return CancelToken(options_.cancel_flag, options_.outer_cancel_flag); }
     // Throws NodeError with the message; the executor prefixes the node name.
     [[noreturn]] void fail(const std::string& message) const { throw NodeError(message); }
 

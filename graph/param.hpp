@@ -25,6 +25,7 @@ struct ParamDecl {
     bool min_exclusive = false, max_exclusive = false;
     std::vector<std::string> choices;          // for Choice
     std::optional<std::size_t> list_size;      // for RealList with a fixed length
+    bool output_file = false;                  // names a file the node writes (checked by validate)
 
     // Builder-style refinements, chained after NodeType::param_*.
     ParamDecl& with_unit(std::string u) { unit = std::move(u); return *this; }
@@ -35,6 +36,10 @@ struct ParamDecl {
     ParamDecl& at_most(double hi) { max = hi; return *this; }
     ParamDecl& size(std::size_t n) { list_size = n; return *this; }
     ParamDecl& required() { default_value.reset(); return *this; }
+    // A String naming an output file, relative to the run's output directory: `validate` and `run`
+    // refuse absolute paths (unless allowed), paths leaving --out, report.json and two nodes
+    // naming the same file (graph/output_paths.hpp).
+    ParamDecl& writes_file() { output_file = true; return *this; }
 
     bool is_required() const { return !default_value.has_value(); }
     // Human-readable allowed range, e.g. "(0, 0.5)" or "one of: obj, ply".

@@ -760,9 +760,18 @@ Plan load_pipeline_file(const std::string& path, const NodeRegistry& registry, c
         diags.push_back({{path, 0, 0}, "cannot open pipeline file", "check the path; pipelines/ has the shipped ones"});
         return {};
     }
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return load_pipeline_text(ss.str(), path, registry, options, diags);
+    // Read at most the limit and one byte more: a pipeline is a few kilobytes, and /dev/zero or a
+    // mesh given by mistake must not be read into memory whole (validate /dev/zero read 4.2 GB).
+    constexpr std::size_t limit = std::size_t(16) << 20;
+    std::string text(limit + 1, '\0');
+    f.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(f.gcount()));
+    if (text.size() > limit) {
+        diags.push_back({{path, 0, 0}, "pipeline file is larger than 16 MiB (a pipeline is a few kilobytes); not read",
+                         "check that this is the pipeline YAML file and not a mesh, a device or a generated file"});
+        return {};
+    }
+    return load_pipeline_text(text, path, registry, options, diags);
 }
 
 std::string to_dot(const Plan& plan) {

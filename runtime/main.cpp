@@ -8,9 +8,14 @@
 #include <CLI/CLI.hpp>
 
 #include <climits>
+#include <csignal>
 #include <cstdio>
 
 int main(int argc, char** argv) {
+    // Under a file-size limit (ulimit -f) a write past it would kill the process with SIGXFSZ and
+    // leave a temporary behind; ignored, the write fails with EFBIG, which the atomic writers report
+    // with the file's name, and the run ends with exit 1 and its report.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"crackflow " CRACKFLOW_VERSION " - brittle fracture simulation for visual effects"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string(CRACKFLOW_VERSION));
@@ -22,11 +27,15 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--set", run.overrides, "override a parameter: NODE.PARAM=VALUE (repeatable)");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores; at most 4 per core)")->check(CLI::Range(1, INT_MAX));
     run_cmd->add_flag("--fast", run.fast, "apply the pipeline's 'fast:' overrides (reduced resolution, for tests)");
+    run_cmd->add_flag("--allow-absolute-paths", run.allow_absolute_paths,
+                      "let output parameters name absolute paths outside --out (refused by default)");
 
     std::vector<std::string> validate_files, validate_overrides;
     auto* validate_cmd = app.add_subcommand("validate", "check pipelines without running them; exit 2 if any is invalid");
     validate_cmd->add_option("pipelines", validate_files, "pipeline YAML files")->required();
     validate_cmd->add_option("--set", validate_overrides, "override a parameter: NODE.PARAM=VALUE (repeatable)");
+    bool validate_absolute = false;
+    validate_cmd->add_flag("--allow-absolute-paths", validate_absolute, "accept absolute output paths (as run does with it)");
 
     bool as_json = false, as_markdown = false;
     auto* nodes_cmd = app.add_subcommand("nodes", "list the node types");
@@ -92,7 +101,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (*run_cmd) return cf::runtime::run_command(run);
-        if (*validate_cmd) return cf::runtime::validate_command(validate_files, validate_overrides);
+        if (*validate_cmd) return cf::runtime::validate_command(validate_files, validate_overrides, validate_absolute);
         if (*graph_cmd) return cf::runtime::graph_command(graph_file);
         if (*batch_cmd) {
             for (const char* name : {"partition", "time", "mem", "cpus-per-task", "max-parallel", "rows-per-task",

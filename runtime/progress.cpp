@@ -1,10 +1,29 @@
 #include "runtime/progress.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace cf::runtime {
 
 ProgressDisplay::ProgressDisplay(std::FILE* out, bool interactive) : out_(out), interactive_(interactive) {}
+
+bool ProgressDisplay::loop_line_shown(int iteration) {
+    if (iteration <= 0) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_loop_line_ < std::chrono::seconds(1)) {
+        ++skipped_lines_;
+        return false;
+    }
+    last_loop_line_ = now;
+    return true;
+}
+
+std::string ProgressDisplay::skipped_note() {
+    if (skipped_lines_ == 0) return "";
+    const std::string note = " (" + std::to_string(skipped_lines_) + " loop lines not shown)";
+    skipped_lines_ = 0;
+    return note;
+}
 
 std::string ProgressDisplay::label(const std::string& node, int iteration) const {
     return iteration >= 0 ? node + "#" + std::to_string(iteration) : node;
@@ -17,9 +36,9 @@ void ProgressDisplay::node_started(const std::string& node, int iteration) {
     label_of_[node] = l;
     last_quarter_[node] = 0;
     if (interactive_) redraw();
-    else {
+    else if (loop_line_shown(iteration)) {
         double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        std::fprintf(out_, "[%8.2f s] start  %s\n", t, l.c_str());
+        std::fprintf(out_, "[%8.2f s] start  %s%s\n", t, l.c_str(), skipped_note().c_str());
         std::fflush(out_);
     }
 }
@@ -28,12 +47,16 @@ void ProgressDisplay::node_finished(const std::string& node, int iteration, doub
     std::lock_guard<std::mutex> lock(mutex_);
     const std::string l = label(node, iteration);
     running_.erase(l);
+    if (!loop_line_shown(iteration)) {
+        if (interactive_) redraw();
+        return;
+    }
     if (interactive_) {
         std::fprintf(out_, "\r\033[K  done  %-32s %8.3f s\n", l.c_str(), seconds);
         redraw();
     } else {
         double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        std::fprintf(out_, "[%8.2f s] done   %s (%.3f s)\n", t, l.c_str(), seconds);
+        std::fprintf(out_, "[%8.2f s] done   %s (%.3f s)%s\n", t, l.c_str(), seconds, skipped_note().c_str());
     }
     std::fflush(out_);
 }
@@ -51,6 +74,8 @@ void ProgressDisplay::progress(const std::string& node, double fraction) {
         int quarter = static_cast<int>(fraction * 4);
         if (quarter > last_quarter_[node] && quarter < 4) {
             last_quarter_[node] = quarter;
+            const auto hash = it->second.find('#');
+            if (hash != std::string::npos && !loop_line_shown(std::atoi(it->second.c_str() + hash + 1))) return;
             std::fprintf(out_, "             %s %d%%\n", it->second.c_str(), quarter * 25);
             std::fflush(out_);
         }

@@ -1,6 +1,7 @@
 #pragma once
 // Progress display for `crackflow run`: on a terminal one status line with a bar per running
-// stage, redrawn in place; otherwise plain lines when a stage starts and finishes.
+// stage, redrawn in place; otherwise plain lines when a stage starts and finishes. Lines about
+// loop iterations after the first are rate-limited to one a second.
 #include "graph/executor.hpp"
 
 #include <chrono>
@@ -30,6 +31,12 @@ private:
     std::map<std::string, int> last_quarter_;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point last_draw_{};
+    // Lines about loop iterations after the first are printed at most once a second (a loop of a
+    // million short iterations printed four lines each); the ones left out are counted and said.
+    bool loop_line_shown(int iteration);
+    std::string skipped_note();
+    std::chrono::steady_clock::time_point last_loop_line_{};
+    long long skipped_lines_ = 0;
 };
 
 }  // namespace cf::runtime

@@ -2,6 +2,7 @@
 
 #include "graph/atomic_write.hpp"
 #include "graph/executor.hpp"
+#include "graph/output_paths.hpp"
 #include "graph/pipeline.hpp"
 #include "nodes/register_all.hpp"
 #include "runtime/progress.hpp"
@@ -32,13 +33,15 @@ extern "C" void on_sigint(int sig) {
     g_interrupted.store(true);
 }
 
-bool load(const std::string& path, const std::vector<std::string>& overrides, bool fast, graph::Plan& plan) {
+bool load(const std::string& path, const std::vector<std::string>& overrides, bool fast, graph::Plan& plan,
+          bool allow_absolute_paths = false) {
     std::vector<graph::Diagnostic> diags;
     graph::LoadOptions options;
     options.fast = fast;
     for (const auto& o : overrides)
         if (auto parsed = graph::parse_override(o, diags)) options.overrides.push_back(*parsed);
     plan = graph::load_pipeline_file(path, node_registry(), options, diags);
+    if (diags.empty()) graph::check_output_paths(plan, allow_absolute_paths, diags);
     for (const auto& d : diags) std::fprintf(stderr, "%s\n", graph::format(d).c_str());
     if (!diags.empty())
         std::fprintf(stderr, "%s: %zu error%s\n", path.c_str(), diags.size(), diags.size() == 1 ? "" : "s");
@@ -47,13 +50,14 @@ bool load(const std::string& path, const std::vector<std::string>& overrides, bo
 
 }  // namespace
 
-int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides) {
+int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides,
+                     bool allow_absolute_paths) {
     int code = 0;
     for (const auto& p : pipelines) {
         graph::Plan plan, fast_plan;
-        bool ok = load(p, overrides, false, plan);
+        bool ok = load(p, overrides, false, plan, allow_absolute_paths);
         // The pipeline as `run --fast` (and the test suite) runs it: its fast: overrides are checked too.
-        if (ok && !load(p, overrides, true, fast_plan)) {
+        if (ok && !load(p, overrides, true, fast_plan, allow_absolute_paths)) {
             std::fprintf(stderr, "%s: the errors above come from its fast: section (as run --fast applies it)\n", p.c_str());
             ok = false;
         }
@@ -72,7 +76,7 @@ int graph_command(const std::string& pipeline) {
 
 int run_command(const RunRequest& req) {
     graph::Plan plan;
-    if (!load(req.pipeline, req.overrides, req.fast, plan)) return 2;
+    if (!load(req.pipeline, req.overrides, req.fast, plan, req.allow_absolute_paths)) return 2;
     std::filesystem::path out = req.out_dir.empty()
                                     ? std::filesystem::path("out") / std::filesystem::path(req.pipeline).stem()
                                     : std::filesystem::path(req.out_dir);
@@ -104,6 +108,7 @@ int run_command(const RunRequest& req) {
     options.fast = req.fast;
     options.cancel_flag = &g_interrupted;
     options.on_progress = [&](const std::string& node, double f) { progress.progress(node, f); };
+    options.allow_absolute_paths = req.allow_absolute_paths;
     options.keep_outputs = false;  // the report needs the counts only; values are freed once consumed
     graph::ExecutionResult result = graph::execute(plan, options, &progress);
     std::signal(SIGINT, previous);

@@ -11,11 +11,13 @@ struct RunRequest {
     std::vector<std::string> overrides;  // NODE.PARAM=VALUE
     int threads = 0;                   // 0: all cores
     bool fast = false;
+    bool allow_absolute_paths = false;  // output parameters may name files outside --out
 };
 
 // Exit codes: 0 ok, 1 a node failed, 2 invalid pipeline or arguments, 130 cancelled (Ctrl-C).
 int run_command(const RunRequest& request);
-int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides);
+int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides,
+                     bool allow_absolute_paths = false);
 int graph_command(const std::string& pipeline);
 
 }  // namespace cf::runtime

@@ -39,7 +39,13 @@ std::string loop_step_tables(const graph::Plan& plan, const graph::ExecutionResu
             out += buf;
         }
         out += "     total\n";
+        // A long loop shows its first and last steps only (report.json has every recorded one).
+        constexpr std::size_t shown = 50;
         for (std::size_t r = 0; r < rows; ++r) {
+            if (rows > 2 * shown && r == shown) {
+                out += "  ... " + std::to_string(rows - 2 * shown) + " steps not shown (report.json iteration_counts)\n";
+                r = rows - shown;
+            }
             std::snprintf(buf, sizeof buf, "  %4zu", r);
             out += buf;
             double total = 0;

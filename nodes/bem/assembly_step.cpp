@@ -106,7 +106,8 @@ BemOperators assemble_step(const AssemblyRequest& rq, AssemblyReport& rep) {
     }
     // Full BEM: crack elements appended to the system.
     if (has_cracks) {
-        out.cracks = append_crack_elements(*out.surface, prev_cracks, *rq.cracks);
+        // This node's budget, not that of the assembly whose surface blocks are reused.
+        out.cracks = append_crack_elements(*out.surface, prev_cracks, *rq.cracks, rq.options.memory_budget_bytes);
         rep.crack_pairs = static_cast<std::size_t>(out.cracks->pairs_computed_last);
         if (out.tip_elements) {
             // The front moves every step: the square-root blocks are re-integrated from the P1 base.

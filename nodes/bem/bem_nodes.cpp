@@ -40,7 +40,10 @@ graph::NodeType assemble_node() {
         .range(2, 10);
     t.param_int("farfield_boost", 0, "extra far-field quadrature zones (0 = distance-based default)").range(0, 6);
     t.param_bool("single_layer", true, "assemble V (needed only when some region has a displacement condition)");
-    t.param_real("memory_budget", 4, "GB", "refuse dense blocks above this size").above(0);
+    t.param_real("memory_budget", 0, "GB",
+                 "refuse dense blocks above this size; 0: half the machine's physical memory. Checked before every "
+                 "assembly, the loop's appends included; may not exceed the physical memory")
+        .at_least(0);
     t.param_choice("method", "inherit", {"inherit", "full", "estimator", "hybrid"},
                    "crack unknowns (ch. 5): full BEM, estimator, or hybrid; inherit = full on a first assembly, the previous "
                    "operators' method with 'previous'");
@@ -64,7 +67,17 @@ graph::NodeType assemble_node() {
         rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
         rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
         rq.options.single_layer = c.boolean("single_layer");
-        rq.options.memory_budget_bytes = c.real("memory_budget") * 1e9;
+        const double available = available_memory_bytes();
+        if (c.real("memory_budget") * 1e9 > available && available > 0) {
+            std::ostringstream m;
+            m.precision(3);
+            m << "parameter 'memory_budget' is " << c.real("memory_budget") << " GB, more than the " << available / 1e9
+              << " GB this process may use (physical memory, or a ulimit); dense blocks that large would swap or be "
+                 "killed. Use at most "
+              << available / 1e9 << " (0: half of it)";
+            c.fail(m.str());
+        }
+        rq.options.memory_budget_bytes = c.real("memory_budget") > 0 ? c.real("memory_budget") * 1e9 : default_memory_budget_bytes();
         rq.material.E = c.real("E");
         rq.material.nu = c.real("nu");
         if (c.has("material")) rq.material = c.in<Material>("material");
@@ -172,9 +185,9 @@ graph::NodeType vtk_node() {
                       "Files are written atomically.");
     t.input<bem::BemSolution>("solution", "from solve.sgbem");
     t.param_string("path", "", "surface .vtp file; relative paths are relative to the run's output directory; '{iteration}' "
-                               "becomes the loop iteration (per-step files)").required();
+                               "becomes the loop iteration (per-step files)").required().writes_file();
     t.param_string("crack_path", "",
-                   "crack-sheet .vtp file (written only when there are cracks); empty: '<path stem>_cracks.vtp' beside 'path'");
+                   "crack-sheet .vtp file (written only when there are cracks); empty: '<path stem>_cracks.vtp' beside 'path'").writes_file();
     t.param_bool("crack_average", true,
                  "add 'u_average' at crack vertices (representation formula over the surface, eq. 2.20; costs one surface "
                  "integral per crack vertex)");

@@ -13,11 +13,13 @@ namespace {
 // give two cores several chunks each on the 1000-4000 unknown systems of a BEM solve.
 constexpr Eigen::Index chunk = 128;
 
+// Polls `cancel` per chunk (one chunk of a trailing update is at most n x 128 x 128 flops).
 template <class Fn>
-void for_each_chunk(Eigen::Index begin, Eigen::Index end, Fn fn) {
+void for_each_chunk(Eigen::Index begin, Eigen::Index end, Fn fn, const CancelToken& cancel = {}) {
     const Eigen::Index n = (end - begin + chunk - 1) / chunk;
     tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 1), [&](const tbb::blocked_range<Eigen::Index>& r) {
         for (Eigen::Index c = r.begin(); c != r.end(); ++c) {
+            cancel.poll();
             const Eigen::Index b = begin + c * chunk;
             fn(b, std::min(chunk, end - b));
         }
@@ -26,11 +28,12 @@ void for_each_chunk(Eigen::Index begin, Eigen::Index end, Fn fn) {
 
 }  // namespace
 
-bool DenseCholesky::compute(Eigen::MatrixXd A) {
+bool DenseCholesky::compute(Eigen::MatrixXd A, const CancelToken& cancel) {
     ok_ = false;
     const Eigen::Index n = A.rows();
     if (A.cols() != n) return false;
     for (Eigen::Index k0 = 0; k0 < n; k0 += chunk) {
+        cancel.poll();
         const Eigen::Index kb = std::min(chunk, n - k0), r0 = k0 + kb, nr = n - r0;
         Eigen::Ref<Eigen::MatrixXd> A11 = A.block(k0, k0, kb, kb);
         Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A11);  // in place: A11 becomes L11
@@ -43,12 +46,12 @@ bool DenseCholesky::compute(Eigen::MatrixXd A) {
         for_each_chunk(r0, n, [&](Eigen::Index b, Eigen::Index m) {
             A.block(k0, k0, kb, kb).triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(
                 A.block(b, k0, m, kb));
-        });
+        }, cancel);
         // Trailing update of the lower triangle: A22 -= L21 L21^T, by column chunks.
         const auto L21 = A.block(r0, k0, nr, kb);
         for_each_chunk(r0, n, [&](Eigen::Index b, Eigen::Index m) {
             A.block(b, b, n - b, m).noalias() -= L21.bottomRows(n - b) * L21.middleRows(b - r0, m).transpose();
-        });
+        }, cancel);
     }
     L_ = std::move(A);
     ok_ = true;

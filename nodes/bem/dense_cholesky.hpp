@@ -4,6 +4,8 @@
 // and the trailing update in fixed-size chunks run in parallel. Chunk boundaries depend only on
 // the matrix size, and every entry is computed by one task, so results are bit-identical for any
 // thread count.
+#include "graph/cancel_token.hpp"
+
 #include <Eigen/Core>
 
 namespace cf::bem {
@@ -14,7 +16,8 @@ public:
     // Factorises the symmetric matrix whose LOWER triangle is given (the upper part is ignored).
     explicit DenseCholesky(Eigen::MatrixXd lower) { compute(std::move(lower)); }
     // Returns false (and keeps no factor) when the matrix is not numerically positive definite.
-    bool compute(Eigen::MatrixXd lower);
+    // Throws cf::Cancelled between block columns once `cancel` is set.
+    bool compute(Eigen::MatrixXd lower, const CancelToken& cancel = CancelToken::current());
     bool ok() const { return ok_; }
     Eigen::Index size() const { return L_.rows(); }
     // Lower factor L with A = L L^T; only the lower triangle is meaningful.

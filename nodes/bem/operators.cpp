@@ -2,6 +2,8 @@
 
 #include "nodes/bem/surface_intersection.hpp"
 
+#include "graph/cancel_token.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -57,11 +59,16 @@ std::vector<std::vector<int>> colour_elements(const std::vector<ElementGeometry>
 
 namespace {
 
+// Polls the running node's cancel token per element (an element's pairs take well under 0.1 s).
 template <class Fn>
 void for_each_colour(const std::vector<std::vector<int>>& groups, Fn fn) {
+    const CancelToken cancel = CancelToken::current();
     for (const auto& grp : groups)
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grp.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) fn(grp[i]);
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                cancel.poll();
+                fn(grp[i]);
+            }
         });
 }
 
@@ -161,7 +168,7 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
 
 std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
                                                             const std::shared_ptr<const CrackOperators>& previous,
-                                                            const SurfaceMesh& cracks) {
+                                                            const SurfaceMesh& cracks, double memory_budget_bytes) {
     const std::size_t old_tris = previous ? previous->cracks.num_triangles() : 0;
     const std::size_t old_verts = previous ? previous->cracks.num_vertices() : 0;
     if (previous) {
@@ -176,7 +183,7 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
     }
     try {
         check_memory_budget(crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), cracks.num_vertices()),
-                            surface.options.memory_budget_bytes,
+                            memory_budget_bytes >= 0 ? memory_budget_bytes : surface.options.memory_budget_bytes,
                             "crack blocks for " + std::to_string(cracks.num_vertices()) + " crack nodes");
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string(e.what()) +

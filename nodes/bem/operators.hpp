@@ -5,6 +5,7 @@
 // parallel, and each element-pair contribution is added by exactly one task in a fixed order.
 // Symmetric blocks are computed from the upper triangle of element pairs only (D = H + H^T),
 // which makes them exactly symmetric.
+#include "graph/machine_memory.hpp"
 #include "nodes/bem/element_geometry.hpp"
 #include "nodes/bem/local_blocks.hpp"
 #include "nodes/bem/pair_integrals.hpp"
@@ -25,7 +26,7 @@ using Vector = Eigen::VectorXd;
 struct AssemblyOptions {
     QuadratureSettings quadrature;
     bool single_layer = true;             // V is needed only when some region is Dirichlet
-    double memory_budget_bytes = 4e9;     // refuse dense allocations above this
+    double memory_budget_bytes = default_memory_budget_bytes();  // refuse dense allocations above this
 };
 
 // Blocks over the ordinary surface Gamma. Unknown numbering: element a, component j -> 3a+j;
@@ -77,9 +78,11 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
 // previous->cracks: same leading vertices and triangles, new ones appended. Throws
 // std::invalid_argument when it does not, when a crack triangle is degenerate, or when a crack
 // triangle intersects the ordinary surface.
+// `memory_budget_bytes` < 0: the surface's (the budget of the assembly that made it); a loop's
+// assembly passes its own.
 std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
                                                             const std::shared_ptr<const CrackOperators>& previous,
-                                                            const SurfaceMesh& cracks);
+                                                            const SurfaceMesh& cracks, double memory_budget_bytes = -1);
 
 // P0 x P1 mass matrix M01[a, (a, alpha)] = |T_a|/3 I applied to a nodal vector (3N -> 3M) and its transpose.
 Vector mass_times_nodal(const SurfaceOperators& s, const Vector& nodal);

@@ -55,7 +55,7 @@ void register_core_nodes(graph::NodeRegistry& r) {
                           "Writes a real number as text to a file (atomically); '{iteration}' in the path becomes the "
                           "loop iteration (4 digits), so per-iteration values land in separate files.");
         t.input<double>("value", "the number to write");
-        t.param_string("path", "value.txt", "output file, relative to the run's output directory").required();
+        t.param_string("path", "value.txt", "output file, relative to the run's output directory").required().writes_file();
         t.run([](graph::NodeContext& c) {
             const std::filesystem::path p = c.output_path(c.string("path"));
             const double v = c.in<double>("value");

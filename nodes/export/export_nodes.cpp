@@ -10,13 +10,12 @@ void register_export_nodes(graph::NodeRegistry& r) {
     graph::NodeType t("export.mesh", "Writes a surface mesh to OBJ, OFF, PLY, STL or VTK PolyData (.vtp, with the "
                                      "per-triangle region ids as cell data), atomically.");
     t.input<SurfaceMesh>("mesh", "the surface to write (metres)");
-    t.param_string("path", "", "output file; relative paths are relative to the run's output directory").required();
+    t.param_string("path", "", "output file; relative paths are relative to the run's output directory").required().writes_file();
     t.param_choice("format", "auto", {"auto", "obj", "off", "ply", "stl", "vtp"},
                    "file format; auto picks it from the path's extension");
     t.param_bool("binary", true, "binary PLY / STL (smaller, faster); binary STL rounds coordinates to float32");
     t.run([](graph::NodeContext& c) {
-        std::filesystem::path path = c.string("path");
-        if (path.is_relative()) path = c.output_dir() / path;
+        const std::filesystem::path path = c.output_path(c.string("path"));  // stays inside --out
         const SurfaceMesh& m = c.in<SurfaceMesh>("mesh");
         try {
             const MeshFormat f =

@@ -2,6 +2,7 @@
 #include "nodes/fields/voxel_grid.hpp"
 
 #include "graph/atomic_write.hpp"
+#include "nodes/levelset/vdb_write.hpp"
 
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
@@ -145,11 +146,7 @@ void VoxelGrid::write(const std::filesystem::path& file, const std::string& grid
     auto copy = data_->grid->deepCopy();
     copy->setName(grid_name);
     openvdb::GridPtrVec grids{copy};
-    graph::write_atomically_via_path(file, [&](const std::filesystem::path& tmp) {
-        openvdb::io::File f(tmp.string());
-        f.write(grids);
-        f.close();
-    });
+    write_vdb_file_checked(file, grids);
 }
 
 double VoxelGrid::sample(const Vec3& p) const {

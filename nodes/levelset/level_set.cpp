@@ -4,14 +4,18 @@
 
 #include "graph/atomic_write.hpp"
 #include "graph/diagnostics.hpp"
+#include "nodes/levelset/vdb_write.hpp"
 
 #include <openvdb/io/File.h>
+#include <openvdb/tools/Composite.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/LevelSetMeasure.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <cmath>
+#include <map>
+#include <numeric>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -23,7 +27,82 @@ void ensure_openvdb_initialized() {
     std::call_once(once, [] { openvdb::initialize(); });
 }
 
-LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels) {
+namespace {
+
+// One closed shell of a (possibly multi-shell) surface: its triangles, signed volume and how many
+// other shells enclose it.
+struct Shell {
+    std::vector<Tri> triangles;
+    double volume = 0;
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    int depth = 0;
+};
+
+// Solid angle of triangle (a, b, c) seen from the origin (Van Oosterom and Strackee).
+double solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    return 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+}
+
+// Shells (connected by shared vertices) with their nesting depth by the generalised winding number.
+std::vector<Shell> shells_of(const SurfaceMesh& mesh) {
+    std::vector<int> parent(mesh.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
+    for (const Tri& t : mesh.triangles) {
+        const int a = find(t[0]);
+        parent[find(t[1])] = a;
+        parent[find(t[2])] = a;
+    }
+    std::map<int, int> index;
+    std::vector<Shell> shells;
+    for (const Tri& t : mesh.triangles) {
+        const auto [it, fresh] = index.emplace(find(t[0]), int(shells.size()));
+        if (fresh) shells.emplace_back();
+        Shell& s = shells[it->second];
+        s.triangles.push_back(t);
+        const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+        s.volume += a.dot(b.cross(c)) / 6;
+        s.lo = s.lo.cwiseMin(a).cwiseMin(b).cwiseMin(c);
+        s.hi = s.hi.cwiseMax(a).cwiseMax(b).cwiseMax(c);
+    }
+    for (std::size_t i = 0; shells.size() > 1 && i < shells.size(); ++i) {
+        const Vec3& p = mesh.vertices[shells[i].triangles[0][0]];
+        for (std::size_t j = 0; j < shells.size(); ++j) {
+            if (j == i || (p.array() < shells[j].lo.array()).any() || (p.array() > shells[j].hi.array()).any()) continue;
+            double w = 0;
+            for (const Tri& t : shells[j].triangles)
+                w += solid_angle(mesh.vertices[t[0]] - p, mesh.vertices[t[1]] - p, mesh.vertices[t[2]] - p);
+            if (std::abs(w) > 2 * M_PI) ++shells[i].depth;  // |winding number| > 1/2
+        }
+    }
+    return shells;
+}
+
+openvdb::FloatGrid::Ptr shell_grid(const SurfaceMesh& mesh, const std::vector<Tri>& triangles, double r_f,
+                                   double half_width, const CancelToken& cancel) {
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(mesh.vertices.size());
+    for (const Vec3& v : mesh.vertices) points.emplace_back(float(v.x()), float(v.y()), float(v.z()));
+    std::vector<openvdb::Vec3I> tris;
+    tris.reserve(triangles.size());
+    for (const Tri& t : triangles) tris.emplace_back(t[0], t[1], t[2]);
+    auto xform = openvdb::math::Transform::createLinearTransform(r_f);
+    // Sign by scan conversion, then flood fill of the interior tiles (ch. 6.1, [52]).
+    CancelInterrupter interrupter(cancel);
+    openvdb::FloatGrid::Ptr g =
+        openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(interrupter, *xform, points, tris, float(half_width));
+    cancel.poll();
+    return g;
+}
+
+}  // namespace
+
+LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels,
+                             const CancelToken& cancel) {
     ensure_openvdb_initialized();
     if (!(r_f > 0) || !std::isfinite(r_f))
         throw std::invalid_argument("voxel size r_f must be a positive number of metres, got " + graph::format_number(r_f));
@@ -41,6 +120,26 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_wi
     if (!(vol > 0))
         throw std::invalid_argument("the surface mesh encloses a non-positive signed volume (" + graph::format_number(vol) +
                                     " m^3): its triangles face inward; flip their orientation");
+    // Several shells: a shell inside an odd number of others bounds a cavity and must face into it
+    // (negative signed volume); inside an even number it is solid (positive). The flood fill of
+    // mesh-to-volume cannot tell a cavity from the inside, so each shell gets its own grid and the
+    // grids are combined outermost first: solids united, cavities subtracted.
+    std::vector<Shell> shells = shells_of(mesh);
+    for (std::size_t i = 0; i < shells.size(); ++i) {
+        const Shell& sh = shells[i];
+        const bool cavity = sh.depth % 2 == 1;
+        if ((sh.volume > 0) != cavity) continue;
+        std::ostringstream m;
+        m << "shell " << i << " of the surface mesh (" << sh.triangles.size() << " triangles, signed volume " << sh.volume
+          << " m^3) ";
+        if (cavity)
+            m << "lies inside " << sh.depth << " other shell(s), so it bounds a cavity and its normals should point into "
+              << "the cavity, but they point outwards";
+        else
+            m << "is inside-out: its normals point inwards";
+        m << "; flip its orientation (import.mesh: reorient: true does it)";
+        throw std::invalid_argument(m.str());
+    }
     const Box3 box = bounding_box(mesh);
     const double thinnest = box.extent().minCoeff();
     if (thinnest < 4 * r_f) {
@@ -57,15 +156,18 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_wi
           << r_f * std::sqrt(band_voxels / max_voxels) << " m";
         throw std::invalid_argument(s.str());
     }
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(mesh.vertices.size());
-    for (const Vec3& v : mesh.vertices) points.emplace_back(float(v.x()), float(v.y()), float(v.z()));
-    std::vector<openvdb::Vec3I> tris;
-    tris.reserve(mesh.triangles.size());
-    for (const Tri& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
-    auto xform = openvdb::math::Transform::createLinearTransform(r_f);
-    // Sign by scan conversion, then flood fill of the interior tiles (ch. 6.1, [52]).
-    openvdb::FloatGrid::Ptr g = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, tris, float(half_width));
+    openvdb::FloatGrid::Ptr g;
+    if (shells.size() == 1) {
+        g = shell_grid(mesh, mesh.triangles, r_f, half_width, cancel);
+    } else {
+        std::stable_sort(shells.begin(), shells.end(), [](const Shell& a, const Shell& b) { return a.depth < b.depth; });
+        for (const Shell& sh : shells) {
+            openvdb::FloatGrid::Ptr part = shell_grid(mesh, sh.triangles, r_f, half_width, cancel);
+            if (!g) g = part;
+            else if (sh.depth % 2 == 1) openvdb::tools::csgDifference(*g, *part);
+            else openvdb::tools::csgUnion(*g, *part);
+        }
+    }
     g->setName("object");
     bool any_inside = false;
     for (auto it = g->cbeginValueOn(); it; ++it)
@@ -143,11 +245,7 @@ void write_vdb(const std::filesystem::path& path, const std::vector<std::pair<st
         g->setGridClass(openvdb::GRID_LEVEL_SET);
         out.push_back(g);
     }
-    graph::write_atomically_via_path(path, [&](const std::filesystem::path& tmp) {
-        openvdb::io::File f(tmp.string());
-        f.write(out);
-        f.close();
-    });
+    write_vdb_file_checked(path, out);
 }
 
 std::vector<std::pair<std::string, LevelSet>> read_vdb(const std::filesystem::path& path) {

@@ -4,6 +4,7 @@
 // nodes/levelset/level_set_grid.hpp, which only the few OpenVDB translation units include.
 // Convention: voxel (i,j,k) sits at world position (i,j,k) * voxel_size; values in metres;
 // negative inside; inactive values are +-half_width * voxel_size.
+#include "graph/cancel_token.hpp"
 #include "graph/value.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
@@ -32,7 +33,7 @@ struct LevelSet {
 // is too large for the object (thinnest bounding-box side < 4 r_f) or so small that the band
 // would exceed `max_voxels`.
 LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double voxel_size, double half_width = 3,
-                             double max_voxels = 2e8);
+                             double max_voxels = 2e8, const CancelToken& cancel = CancelToken::current());
 
 // Enclosed volume [m^3] measured on the grid (OpenVDB LevelSetMeasure).
 double level_set_volume(const LevelSet& ls);

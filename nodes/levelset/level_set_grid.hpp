@@ -2,9 +2,11 @@
 // The OpenVDB side of cf::LevelSet. Include ONLY from the OpenVDB translation units
 // (nodes/levelset/level_set.cpp, crack_grids.cpp, nodes/segment/segmentation.cpp,
 // nodes/segment/preview_render.cpp): each costs ~25 s to compile.
+#include "graph/cancel_token.hpp"
 #include "nodes/levelset/level_set.hpp"
 
 #include <openvdb/openvdb.h>
+#include <openvdb/util/NullInterrupter.h>
 
 namespace cf {
 
@@ -26,5 +28,14 @@ inline const openvdb::FloatGrid& grid_of(const LevelSet& ls) {
     if (!ls.grid || !ls.grid->grid) throw std::invalid_argument("level set is empty");
     return *ls.grid->grid;
 }
+
+// Lets OpenVDB's long tools (mesh to volume, volume to mesh, filters) stop early when the run is
+// cancelled; the caller polls the token after the tool returns, since an interrupted tool returns
+// an incomplete grid instead of throwing.
+struct CancelInterrupter : openvdb::util::NullInterrupter {
+    explicit CancelInterrupter(CancelToken t) : token(t) {}
+    bool wasInterrupted(int = -1) override { return token.requested(); }
+    CancelToken token;
+};
 
 }  // namespace cf

@@ -87,11 +87,13 @@ graph::NodeType fronts_node() {
         if (object && std::abs(object->voxel_size - s.r_f) > 1e-9 * s.r_f)
             c.fail("input 'object' has voxel size " + graph::format_number(object->voxel_size) + " m but the state was started with r_f = " +
                    graph::format_number(s.r_f) + " m; use the same level set for fracture.start and propagate.fronts");
-        propagate::SubstepObserver observer;
+        // Ctrl-C is noticed after every sub-step (each is short; a step may have thousands).
+        propagate::SubstepObserver observer = [&c](int, const CrackRecorder&) { c.check_cancelled(); };
         const int step = s.step;
         if (c.boolean("write_substep_vdb")) {
             const auto dir = c.output_dir();
-            observer = [dir, step](int k, const CrackRecorder& rec) {
+            observer = [dir, step, &c](int k, const CrackRecorder& rec) {
+                c.check_cancelled();
                 const CrackLevelSets g = rec.snapshot();
                 std::vector<std::pair<std::string, LevelSet>> grids;
                 for (std::size_t i = 0; i < g.cracks.size(); ++i) grids.emplace_back("crack" + std::to_string(i), g.cracks[i]);
@@ -170,8 +172,8 @@ graph::NodeType sif_export_node() {
     t.input<bem::BemSolution>("solution", "the solution the SIFs were read from (its crack sheets place the edges)");
     t.optional_input<ScalarField>("toughness", "toughness field for the K_c column (-1 without)");
     t.param_string("path", "", "CSV file; relative to the run's output directory; '{iteration}' becomes the loop iteration")
-        .required();
-    t.param_string("vtp_path", "", "VTK polylines (.vtp); empty: '<path stem>.vtp' beside 'path'; 'none': no VTK file");
+        .required().writes_file();
+    t.param_string("vtp_path", "", "VTK polylines (.vtp); empty: '<path stem>.vtp' beside 'path'; 'none': no VTK file").writes_file();
     t.run([](graph::NodeContext& c) {
         const bem::BemSolution& sol = c.in<bem::BemSolution>("solution");
         const SurfaceMesh* cracks = bem::current_crack_mesh(sol);

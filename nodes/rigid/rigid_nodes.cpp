@@ -351,9 +351,9 @@ graph::NodeType export_animation_node() {
                       "Transform Pieces (per frame one point per piece with name, P, orient, pivot, v, w; VTK PolyData "
                       "and a .pvd collection for ParaView), and the fracture runs as CSV and JSON.");
     t.input<rigid::SceneState>("scene", "the scene after its last frame (LOOP.final)");
-    t.param_string("glb", "scene.glb", "glTF binary; relative to the run's output directory; empty: none");
-    t.param_string("cache", "pieces/pieces", "points cache: directory and file stem; empty: none");
-    t.param_string("runs", "fracture_runs", "fracture runs listing: <runs>.csv and <runs>.json; empty: none");
+    t.param_string("glb", "scene.glb", "glTF binary; relative to the run's output directory; empty: none").writes_file();
+    t.param_string("cache", "pieces/pieces", "points cache: directory and file stem; empty: none").writes_file();
+    t.param_string("runs", "fracture_runs", "fracture runs listing: <runs>.csv and <runs>.json; empty: none").writes_file();
     t.param_reals("up", {0, 0, 1}, "", "the scene's up axis, mapped onto glTF's +Y").size(3);
     t.output<std::string>("directory", "the output directory");
     t.run([](graph::NodeContext& c) {
@@ -404,7 +404,7 @@ graph::NodeType scene_preview_node() {
                       "for one image per frame. Deterministic for any thread count.");
     t.input<rigid::SceneState>("scene", "a scene state (frames.each.scene: every frame)");
     t.param_string("path", "preview/frame_{iteration}.png",
-                   "PNG file; relative to the run's output directory; '{iteration}' becomes the loop iteration");
+                   "PNG file; relative to the run's output directory; '{iteration}' becomes the loop iteration").writes_file();
     t.param_reals("camera", {2.5, -3.0, 1.8}, "m", "camera position").size(3);
     t.param_reals("target", {0, 0, 0.3}, "m", "the point the camera looks at (image centre)").size(3);
     t.param_reals("up", {0, 0, 1}, "", "the scene's vertical (image up)").size(3);

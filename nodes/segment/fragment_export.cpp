@@ -1,5 +1,7 @@
 #include "nodes/segment/fragment_export.hpp"
 
+#include "graph/cancel_token.hpp"
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
@@ -21,6 +23,7 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
     std::vector<DeformationStats> stats(mesh_files.size());
     std::filesystem::path vdb_path, preview_path;
     tbb::task_group tasks;
+    const CancelToken cancel = CancelToken::current();  // polled per fragment mesh
     if (opt.vdb)
         tasks.run([&] {
             std::vector<std::pair<std::string, LevelSet>> grids;
@@ -37,6 +40,7 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
     if (opt.meshes) try {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                cancel.poll();
                 SurfaceMesh m = level_set_to_mesh(f.fragments[i].grid, opt.adaptivity);
                 if (opt.deformation) opt.deformation->apply(m, &stats[i]);
                 char name[64];

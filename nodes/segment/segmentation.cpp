@@ -645,19 +645,25 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     }
     const float sf = float(s);
     const int d = over_segmentation_ring(s, r_f);  // 1 or 2 for s in [0, r_f]
+    const CancelToken cancel = CancelToken::current();  // polled per leaf, block and fragment
     const ItemIndex items(in, sf, options.use_tiles);
     const auto& leaves = items.leaves();
+    cancel.poll();
 
     // The 27 blocks around every leaf, looked up once.
     tbb::enumerable_thread_specific<ConstAccessor> accs([&] { return items.accessor(); });
     std::vector<BlockNeighbourhood> nbhd(leaves.size());
     tbb::parallel_for(std::size_t(0), leaves.size(),
-                      [&](std::size_t l) { nbhd[l] = items.neighbourhood(accs.local(), leaves[l]->origin()); });
+                      [&](std::size_t l) {
+                          cancel.poll();
+                          nbhd[l] = items.neighbourhood(accs.local(), leaves[l]->origin());
+                      });
 
     // 1.-3. Connected components of the inside items: voxels with their 26 neighbours, tiles
     // with their 6 face neighbours; numbered in order of their smallest item (deterministic).
     const Labelling lab = label_components(items, nbhd);
     const int count = lab.count;
+    cancel.poll();
 
     // 4. One grid per component: inside voxels with their values, the 26 neighbours with the
     // input values (any sign), then the d-ring (Chebyshev distance 2..d from an inside voxel
@@ -684,6 +690,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     const FragmentBlockBuilder builder(items, lab, d, sf, bg, r_f);
     std::vector<BlockOutput> built(blocks.size());
     tbb::parallel_for(std::size_t(0), blocks.size(), [&](std::size_t b) {
+        cancel.poll();
         built[b] = builder.build(blocks[b], b < leaves.size() ? nbhd[b] : items.neighbourhood(accs.local(), blocks[b]));
     });
     nbhd.clear();
@@ -703,6 +710,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     result.used_tiles = options.use_tiles;
     result.fragments.resize(count);
     tbb::parallel_for(0, count, [&](int k) {
+        cancel.poll();
         grids[k] = openvdb::FloatGrid::create(bg);
         grids[k]->setTransform(in.transform().copy());
         grids[k]->setGridClass(openvdb::GRID_LEVEL_SET);

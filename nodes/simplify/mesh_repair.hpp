@@ -1,6 +1,7 @@
 #pragma once
 // CGAL-backed mesh operations behind a plain cf::SurfaceMesh interface (CGAL is included only
 // by qem_simplify.cpp and cgal_repair.cpp; CGAL adds -frounding-math and slow headers).
+#include "graph/cancel_token.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
 #include <utility>
@@ -12,7 +13,8 @@ namespace cf {
 // mesh down to `target_triangles` (closed meshes: stops at 3 F / 2 edges). Keeps topology;
 // stops early where the genus forbids further collapses. Throws std::invalid_argument if the
 // input is not a closed manifold polygon mesh.
-SurfaceMesh simplify_to_count(const SurfaceMesh& mesh, std::size_t target_triangles);
+SurfaceMesh simplify_to_count(const SurfaceMesh& mesh, std::size_t target_triangles,
+                              const CancelToken& cancel = CancelToken::current());
 
 // Pairs of triangles that intersect other than in their shared vertices/edge (exact predicates).
 std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& mesh);

@@ -1,6 +1,7 @@
 #include "nodes/simplify/remesh.hpp"
 
 #include "graph/diagnostics.hpp"
+#include "graph/machine_memory.hpp"
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/simplify/degenerate_cleanup.hpp"
 #include "nodes/simplify/mesh_repair.hpp"
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -132,13 +134,35 @@ int repair_self_intersections(SurfaceMesh& mesh, int max_rounds) {
     return max_rounds;
 }
 
-RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt) {
+double remesh_bytes_estimate(const LevelSet& object) {
+    // The dual-contoured mesh has about two triangles per surface voxel, and the narrow band is
+    // 2 half_width voxels thick around the surface. Each dense triangle costs its share of the
+    // dual contouring, our mesh, CGAL's halfedge copy and the QEM queue (measured, see remesh.hpp).
+    const double surface_voxels = double(active_voxel_count(object)) / (2 * object.half_width);
+    return 2 * surface_voxels * kRemeshBytesPerDenseTriangle;
+}
+
+void check_remesh_memory(const LevelSet& object) {
+    const double need = remesh_bytes_estimate(object), have = available_memory_bytes();
+    if (have > 0 && need > 0.8 * have) {
+        std::ostringstream m;
+        m.precision(3);
+        m << "remeshing this level set (" << active_voxel_count(object) << " active voxels of " << object.voxel_size
+          << " m) needs about " << need / 1e9 << " GB, more than the " << have / 1e9
+          << " GB this process may use; use a larger voxel_size for the level set (memory falls with its square)";
+        throw std::invalid_argument(m.str());
+    }
+}
+
+RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt, const CancelToken& cancel) {
     if (opt.target_triangles < 4)
         throw std::invalid_argument("target triangle count must be at least 4, got " + std::to_string(opt.target_triangles));
     if (!(opt.offset_voxels >= 0))
         throw std::invalid_argument("offset must be a non-negative number of voxels, got " + graph::format_number(opt.offset_voxels));
+    check_remesh_memory(object);
     RemeshResult res;
     SurfaceMesh dense = without_unused_vertices(level_set_to_mesh(object, opt.adaptivity));
+    cancel.poll();  // between the stages; the simplification polls on its own
     res.dense_triangles = dense.num_triangles();
     if (dense.triangles.empty()) throw std::runtime_error("the level set has no surface to mesh");
     const MeshTopologyReport dense_topo = check_topology(dense);
@@ -149,7 +173,8 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt) {
         throw std::invalid_argument("target of " + std::to_string(opt.target_triangles) +
                                     " triangles exceeds the dual-contoured mesh (" + std::to_string(dense.num_triangles()) +
                                     " triangles); lower the target or the voxel size");
-    SurfaceMesh mesh = without_unused_vertices(simplify_to_count(dense, opt.target_triangles));
+    SurfaceMesh mesh = without_unused_vertices(simplify_to_count(dense, opt.target_triangles, cancel));
+    cancel.poll();
     offset_along_normals(mesh, opt.offset_voxels * object.voxel_size);
     // QEM on flat faces leaves zero-area caps and needles (all plane quadrics vanish there);
     // hole filling in the repair can leave more: both are removed before the final check.
@@ -160,6 +185,7 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt) {
     };
     clean();
     res.self_intersections_before = self_intersecting_pairs(mesh).size();
+    cancel.poll();
     if (res.self_intersections_before > 0) {
         res.repair_rounds = repair_self_intersections(mesh, opt.max_repair_rounds);
         clean();

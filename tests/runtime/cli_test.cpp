@@ -245,7 +245,7 @@ TEST(Cli, FailingLoopWriterEndsCleanlyWithTwoThreads) {
     for (int attempt = 0; attempt < 5; ++attempt) {
         auto dir = cf::testing::temp_dir("cli-failing-writer-" + std::to_string(attempt));
         Outcome o = run_cli("run " + src("pipelines/edge_crack_mode1.yaml") +
-                            " --fast --threads 2 --set 'step_vtk.path=/proc/nonexistent/s_{iteration}.vtp' --out " + dir.string());
+                            " --fast --threads 2 --allow-absolute-paths --set 'step_vtk.path=/proc/nonexistent/s_{iteration}.vtp' --out " + dir.string());
         ASSERT_EQ(o.code, 1) << "attempt " << attempt << ":\n" << o.output;
         EXPECT_NE(o.output.find("step_vtk"), std::string::npos) << o.output;
         ASSERT_TRUE(std::filesystem::exists(dir / "report.json")) << o.output;
@@ -254,16 +254,17 @@ TEST(Cli, FailingLoopWriterEndsCleanlyWithTwoThreads) {
     }
 }
 
-// Output paths: '..' may not leave --out, and report.json is the run's own.
+// Output paths: '..' may not leave --out, and report.json is the run's own (both refused before
+// the run starts, as invalid input).
 TEST(Cli, OutputPathsStayInsideTheOutputDirectory) {
     auto dir = cf::testing::temp_dir("cli-escape");
     Outcome o = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --set 'write_final.path=../../escape.txt' --out " +
                         (dir / "out").string());
-    EXPECT_EQ(o.code, 1) << o.output;
+    EXPECT_EQ(o.code, 2) << o.output;
     EXPECT_NE(o.output.find("leaves the output directory"), std::string::npos) << o.output;
     EXPECT_FALSE(std::filesystem::exists(dir.parent_path() / "escape.txt"));
     Outcome r = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --set 'write_final.path=report.json' --out " +
                         (dir / "out2").string());
-    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(r.code, 2) << r.output;
     EXPECT_NE(r.output.find("report.json"), std::string::npos) << r.output;
 }

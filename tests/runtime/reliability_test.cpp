@@ -1,0 +1,302 @@
+// Issue 16: nothing lost and no silent garbage when the disk fills, the user interrupts, or the
+// input is extreme. The crackflow binary end to end, in a child process with limits set.
+#include "nodes/levelset/level_set.hpp"
+#include "tests/harness/node_harness.hpp"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace {
+
+struct Child {
+    int status = -1;
+    std::string output;  // stdout and stderr
+    int code() const { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
+    bool signalled() const { return WIFSIGNALED(status); }
+};
+
+std::string src(const std::string& rel) { return std::string(CRACKFLOW_SOURCE_DIR) + "/" + rel; }
+
+// Runs crackflow with `args`; a file-size limit of `fsize` bytes (0: none) as `ulimit -f` sets it,
+// with SIGXFSZ ignored so that a write past it fails with EFBIG (as on a full disk) instead of
+// killing the process.
+Child run_limited(const std::vector<std::string>& args, rlim_t fsize = 0) {
+    int fds[2];
+    if (pipe(fds) != 0) return {};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fds[1], 1);
+        dup2(fds[1], 2);
+        close(fds[0]);
+        if (fsize > 0) {
+            rlimit lim{fsize, fsize};
+            setrlimit(RLIMIT_FSIZE, &lim);
+        }
+        std::signal(SIGXFSZ, SIG_IGN);
+        std::vector<char*> argv{const_cast<char*>(CRACKFLOW_EXE)};
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        execv(CRACKFLOW_EXE, argv.data());
+        _exit(99);
+    }
+    close(fds[1]);
+    Child c;
+    char buf[4096];
+    ssize_t n;
+    while ((n = read(fds[0], buf, sizeof buf)) > 0) c.output.append(buf, std::size_t(n));
+    close(fds[0]);
+    waitpid(pid, &c.status, 0);
+    return c;
+}
+
+std::map<std::string, std::uintmax_t> files_in(const std::filesystem::path& dir) {
+    std::map<std::string, std::uintmax_t> out;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+        if (e.is_regular_file()) out[std::filesystem::relative(e.path(), dir).string()] = e.file_size();
+    return out;
+}
+
+// Grid names and active voxel counts as Debian's python3-openvdb (pyopenvdb) reads the file: a
+// reader that is not ours.
+std::string pyopenvdb_listing(const std::filesystem::path& file) {
+    const std::string cmd = "/usr/bin/python3 -c \"import sys, pyopenvdb as vdb\n"
+                            "grids, meta = vdb.readAll(sys.argv[1])\n"
+                            "print(' '.join('%s:%d' % (g.name, g.activeVoxelCount()) for g in grids))\" " +
+                            file.string() + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    pclose(p);
+    while (!out.empty() && out.back() == '\n') out.pop_back();
+    return out;
+}
+
+}  // namespace
+
+// .vdb files are written through the checked atomic writer: under a file-size limit the run fails
+// with exit 1 naming the file and the OS error, and no truncated file is left under the final name
+// (object.vdb and fragments.vdb were left at 8000 bytes, exit 0). Whatever is written reads back
+// with OpenVDB's io::File and with pyopenvdb.
+TEST(Reliability, VdbWritesUnderAFileSizeLimitFailCleanly) {
+    const auto base = cf::testing::temp_dir("reliability-vdb");
+    const std::string pipeline = src("pipelines/cut_box.yaml");
+
+    // Unlimited: both VDB files are complete and readable by two independent readers.
+    const Child full = run_limited({"run", pipeline, "--fast", "--out", (base / "full").string()});
+    ASSERT_EQ(full.code(), 0) << full.output;
+    const auto sizes = files_in(base / "full");
+    ASSERT_TRUE(sizes.count("object.vdb") && sizes.count("fragments.vdb")) << full.output;
+    const auto object = cf::read_vdb(base / "full" / "object.vdb");
+    ASSERT_EQ(object.size(), 1u);
+    EXPECT_EQ(object[0].first, "object");
+    const auto fragments = cf::read_vdb(base / "full" / "fragments.vdb");
+    EXPECT_GE(fragments.size(), 2u);
+    const std::string py_object = pyopenvdb_listing(base / "full" / "object.vdb");
+    EXPECT_EQ(py_object.rfind("object:", 0), 0u) << py_object;
+    EXPECT_GT(std::stol(py_object.substr(7)), 1000) << py_object;
+    const std::string py_fragments = pyopenvdb_listing(base / "full" / "fragments.vdb");
+    EXPECT_EQ(std::count(py_fragments.begin(), py_fragments.end(), ':'), long(fragments.size())) << py_fragments;
+
+    auto expect_clean_failure = [&](const std::string& tag, rlim_t limit, const std::string& victim) {
+        const auto dir = base / tag;
+        std::filesystem::create_directories(dir);
+        const Child c = run_limited({"run", pipeline, "--fast", "--threads", "2", "--out", dir.string()}, limit);
+        EXPECT_FALSE(c.signalled()) << c.output;
+        EXPECT_EQ(c.code(), 1) << c.output;
+        EXPECT_NE(c.output.find(victim), std::string::npos) << c.output;
+        EXPECT_NE(c.output.find("File too large"), std::string::npos) << c.output;
+        const auto written = files_in(dir);
+        EXPECT_EQ(written.count(victim), 0u) << tag << ": a file under the final name";
+        for (const auto& [name, bytes] : written) {
+            EXPECT_NE(name.rfind('.', 0), 0u) << tag << ": temporary left behind: " << name;
+            // Every file that is there is complete: as large as in the unlimited run.
+            if (sizes.count(name) && name != "report.json") EXPECT_EQ(bytes, sizes.at(name)) << tag << ": " << name;
+        }
+    };
+    // The object grid is the first file written: a limit below its size fails it.
+    expect_clean_failure("object", sizes.at("object.vdb") / 2, "object.vdb");
+    // A limit that every other output fits in fails only the fragment grids.
+    std::uintmax_t others = 0;
+    for (const auto& [name, bytes] : sizes)
+        if (name != "fragments.vdb" && name != "report.json") others = std::max(others, bytes);
+    ASSERT_LT(others, sizes.at("fragments.vdb")) << "fragments.vdb is no longer the largest output; pick another limit";
+    expect_clean_failure("fragments", (others + sizes.at("fragments.vdb")) / 2, "fragments.vdb");
+}
+
+// Output paths: an absolute path is refused by validate and run unless --allow-absolute-paths is
+// given; two outputs naming the same file, or report.json, are caught by validate.
+TEST(Reliability, OutputPathsAreCheckedBeforeTheRun) {
+    const auto dir = cf::testing::temp_dir("reliability-paths");
+    const std::string demo = src("pipelines/loop_demo.yaml");
+    const std::string absolute = (dir / "elsewhere" / "final.txt").string();
+
+    const Child v = run_limited({"validate", demo, "--set", "write_final.path=" + absolute});
+    EXPECT_EQ(v.code(), 2) << v.output;
+    EXPECT_NE(v.output.find("absolute"), std::string::npos) << v.output;
+    EXPECT_NE(v.output.find("--allow-absolute-paths"), std::string::npos) << v.output;
+    const Child r = run_limited({"run", demo, "--fast", "--set", "write_final.path=" + absolute, "--out", (dir / "a").string()});
+    EXPECT_EQ(r.code(), 2) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(absolute));
+    const Child ok = run_limited({"run", demo, "--fast", "--allow-absolute-paths", "--set", "write_final.path=" + absolute,
+                                  "--out", (dir / "b").string()});
+    EXPECT_EQ(ok.code(), 0) << ok.output;
+    EXPECT_TRUE(std::filesystem::exists(absolute));
+
+    const auto file = dir / "collide.yaml";
+    std::ofstream(file) << "nodes:\n"
+                           "  a: {type: core.real, params: {value: 1}}\n"
+                           "  w1: {type: core.write_real, inputs: {value: a.value}, params: {path: out/value.txt}}\n"
+                           "  w2: {type: core.write_real, inputs: {value: a.value}, params: {path: ./out//value.txt}}\n"
+                           "  w3: {type: core.write_real, inputs: {value: a.value}, params: {path: sub/../report.json}}\n";
+    const Child c = run_limited({"validate", file.string()});
+    EXPECT_EQ(c.code(), 2) << c.output;
+    EXPECT_NE(c.output.find("'w2.path' names the same file as 'w1.path'"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("'w3.path' names report.json"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("collide.yaml:4"), std::string::npos) << "the line of the node: " << c.output;
+}
+
+// `validate /dev/zero` stops after 16 MiB instead of reading 4.2 GB; a loop of many short
+// iterations neither grows per iteration in the report's bookkeeping nor floods the log.
+TEST(Reliability, InputSizesAndLongLoopsAreBounded) {
+    const Child z = run_limited({"validate", "/dev/zero"});
+    EXPECT_EQ(z.code(), 2) << z.output;
+    EXPECT_NE(z.output.find("larger than 16 MiB"), std::string::npos) << z.output;
+
+    const auto dir = cf::testing::temp_dir("reliability-loop");
+    const Child l = run_limited({"run", src("pipelines/loop_demo.yaml"), "--fast", "--set", "grow.max_iterations=12000",
+                                 "--set", "step.value=0", "--set", "write_step.path=steps/length.txt", "--out", dir.string()});
+    ASSERT_EQ(l.code(), 0) << l.output.substr(0, 2000);
+    // 12000 iterations of 4 nodes: without the rate limit 96000 progress lines.
+    const auto lines = std::count(l.output.begin(), l.output.end(), '\n');
+    EXPECT_LT(lines, 2000) << l.output.substr(0, 2000);
+    EXPECT_NE(l.output.find("loop lines not shown"), std::string::npos);
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+    for (const auto& n : report["nodes"]) {
+        if (n["name"].as<std::string>() != "advance") continue;
+        EXPECT_EQ(n["runs"].as<int>(), 12000);
+        EXPECT_LE(n["iteration_counts"].size(), 10000u) << "per-iteration records are capped";
+    }
+}
+
+namespace {
+
+struct Interrupted {
+    int status = -1;
+    double seconds = -1;  // from the signal to the exit
+    std::string output;
+};
+
+// Starts crackflow, waits until its log says `marker` (a node started) and then `delay` seconds,
+// sends `sig` and measures how long the process takes to exit.
+Interrupted interrupt_when(const std::vector<std::string>& args, const std::string& marker, double delay, int sig) {
+    int fds[2];
+    if (pipe(fds) != 0) return {};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fds[1], 1);
+        dup2(fds[1], 2);
+        close(fds[0]);
+        std::vector<char*> argv{const_cast<char*>(CRACKFLOW_EXE)};
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        execv(CRACKFLOW_EXE, argv.data());
+        _exit(99);
+    }
+    close(fds[1]);
+    Interrupted r;
+    char buf[4096];
+    ssize_t n;
+    while (r.output.find(marker) == std::string::npos && (n = read(fds[0], buf, sizeof buf)) > 0)
+        r.output.append(buf, std::size_t(n));
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+    const auto t0 = std::chrono::steady_clock::now();
+    kill(pid, sig);
+    waitpid(pid, &r.status, 0);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    while ((n = read(fds[0], buf, sizeof buf)) > 0) r.output.append(buf, std::size_t(n));
+    close(fds[0]);
+    return r;
+}
+
+}  // namespace
+
+// Ctrl-C takes effect inside long nodes, not only between them (it was ignored for over 120 s in a
+// propagate step with many sub-steps, and took 11 s in a 15 s assembly): the run exits with 130
+// and its report within 0.5 s of the signal (plus a margin for writing the report on a busy machine).
+TEST(Reliability, CtrlCStopsLongNodesWithinHalfASecond) {
+    struct Case {
+        std::string what, marker;
+        std::vector<std::string> sets;
+    };
+    const std::vector<Case> cases = {
+        {"propagate with a million sub-steps", "start  propagate#0", {"propagate.substeps=1000000"}},
+        {"assembly of 1200 triangles", "start  assemble0", {"cube.subdivisions=10"}},
+        {"level set of a fine grid", "start  object", {"object.voxel_size=1.5e-4"}},
+    };
+    for (const Case& c : cases) {
+        const auto dir = cf::testing::temp_dir("reliability-ctrlc");
+        std::vector<std::string> args{"run", src("pipelines/edge_crack_mode1.yaml"), "--fast", "--threads", "2", "--out",
+                                      dir.string()};
+        for (const auto& s : c.sets) args.insert(args.end(), {"--set", s});
+        const Interrupted r = interrupt_when(args, c.marker, 1.0, SIGINT);
+        ASSERT_TRUE(WIFEXITED(r.status)) << c.what << "\n" << r.output;
+        EXPECT_EQ(WEXITSTATUS(r.status), 130) << c.what << "\n" << r.output;
+        std::printf("%s: exit %.3f s after SIGINT\n", c.what.c_str(), r.seconds);
+        EXPECT_LT(r.seconds, 0.5 + 0.5) << c.what;
+        YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+        EXPECT_EQ(report["status"].as<std::string>(), "cancelled") << c.what;
+    }
+}
+
+// Memory: the loop's assembly honours its own memory_budget (it used the first assembly's when
+// 'previous' was connected); a budget above the memory the process may use is refused; a remesh
+// whose dense mesh would not fit is refused naming the voxel size, instead of a bare bad_alloc.
+TEST(Reliability, MemoryIsEstimatedBeforeItIsAllocated) {
+    const auto dir = cf::testing::temp_dir("reliability-memory");
+    const std::string mode1 = src("pipelines/edge_crack_mode1.yaml");
+    const Child loop = run_limited({"run", mode1, "--fast", "--set", "assemble.memory_budget=0.001", "--out", (dir / "a").string()});
+    EXPECT_EQ(loop.code(), 1) << loop.output;
+    EXPECT_NE(loop.output.find("node 'assemble'"), std::string::npos) << loop.output;
+    EXPECT_NE(loop.output.find("above the memory budget of 0.001 GB"), std::string::npos) << loop.output;
+
+    const Child huge = run_limited({"run", mode1, "--fast", "--set", "assemble0.memory_budget=1e6", "--out", (dir / "b").string()});
+    EXPECT_EQ(huge.code(), 1) << huge.output;
+    EXPECT_NE(huge.output.find("'memory_budget' is 1e+06 GB, more than the"), std::string::npos) << huge.output;
+
+    // Under a 1 GB address-space cap (ulimit -v), a 2 mm level set of the 1 x 0.6 x 0.4 m box would
+    // dual-contour (adaptivity 0) to about a million triangles, about 0.5 GB measured, 1 GB estimated.
+    const std::string cut_box = src("pipelines/cut_box.yaml");
+    const pid_t pid = fork();
+    if (pid == 0) {
+        rlimit lim{rlim_t(1) << 30, rlim_t(1) << 30};
+        setrlimit(RLIMIT_AS, &lim);
+        const std::string out = (dir / "c").string();
+        const std::string log = (dir / "c.log").string();
+        std::freopen(log.c_str(), "w", stderr);
+        execl(CRACKFLOW_EXE, CRACKFLOW_EXE, "run", cut_box.c_str(), "--set", "object.voxel_size=0.002", "--set",
+              "object.write_vdb=false", "--set", "bem_mesh.adaptivity=0", "--threads", "2", "--out", out.c_str(), static_cast<char*>(nullptr));
+        _exit(99);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    std::ifstream in(dir / "c.log");
+    const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_TRUE(WIFEXITED(status)) << log;
+    EXPECT_EQ(WEXITSTATUS(status), 1) << log;
+    EXPECT_NE(log.find("node 'bem_mesh'"), std::string::npos) << log;
+    EXPECT_NE(log.find("remeshing this level set"), std::string::npos) << log;
+    EXPECT_NE(log.find("voxel_size"), std::string::npos) << log;
+    EXPECT_EQ(log.find("bad_alloc"), std::string::npos) << log;
+}
