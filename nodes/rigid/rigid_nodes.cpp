@@ -52,6 +52,9 @@ graph::NodeType body_node() {
     t.optional_input<Material>("material", "material.brittle: density, E and nu, strength and toughness; required when breakable");
     t.optional_input<ScalarField>("strength", "tensile strength field [Pa] (default: homogeneous, the material's)");
     t.optional_input<ScalarField>("toughness", "toughness field [Pa*sqrt(m)] (default: homogeneous, the material's)");
+    t.optional_input<SurfaceMesh>("bem_mesh", "breakable: the coarse BEM surface to use instead of remeshing the level set "
+                                  "to 'bem_triangles' (material frame, on the body's surface: e.g. shape.box with "
+                                  "'cell_size' for a slender bar); fragments are remeshed as usual");
     t.optional_input<BodyList>("after", "the bodies inserted before this one");
     t.output<BodyList>("bodies", "'after' with this body appended");
     t.param_string("name", "", "body name in outputs (unique in the scene); empty: the node's name");
@@ -138,9 +141,15 @@ graph::NodeType body_node() {
             } catch (const std::invalid_argument& e) {
                 c.fail("body '" + b->name + "', parameter 'fracture': " + e.what());
             }
+            std::shared_ptr<const SurfaceMesh> bem_mesh;
+            if (c.has("bem_mesh")) {
+                bem_mesh = c.in_ptr<SurfaceMesh>("bem_mesh");
+                const std::string problem = rigid::bem_mesh_problem(*bem_mesh, b->mesh);
+                if (!problem.empty()) c.fail("body '" + b->name + "', input 'bem_mesh': " + problem);
+            }
             rigid::BreakableModel model;
             try {
-                model = rigid::make_breakable_model(fs, level_set_from_mesh(b->mesh, r_f), 0);
+                model = rigid::make_breakable_model(fs, level_set_from_mesh(b->mesh, r_f), 0, bem_mesh);
             } catch (const std::exception& e) {
                 c.fail("body '" + b->name + "' (parameters 'r_f', 'bem_triangles'): " + e.what());
             }

@@ -1,6 +1,8 @@
 #include "nodes/rigid/scene_simulation.hpp"
 
 #include "graph/node_context.hpp"
+#include "nodes/domain/mesh_topology.hpp"
+#include "nodes/initiate/surface_queries.hpp"
 #include "nodes/propagate/fragment_cracks.hpp"
 #include "nodes/propagate/propagation_law.hpp"
 #include "nodes/rigid/balanced_tractions.hpp"
@@ -99,6 +101,30 @@ SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles,
         o.offset_voxels = 0;  // the outward offset is what folds thin wedges most often
         return checked(remesh(coarse, o).mesh);
     }
+}
+
+std::string bem_mesh_problem(const SurfaceMesh& bem_mesh, const SurfaceMesh& mesh) {
+    if (bem_mesh.num_triangles() < 4) return "it has " + std::to_string(bem_mesh.num_triangles()) + " triangles";
+    const MeshTopologyReport topo = check_topology(bem_mesh);
+    if (!topo.is_closed_manifold()) return "it is not a closed 2-manifold: " + topo.describe();
+    if (!(signed_volume(bem_mesh) > 0)) return "it encloses no positive volume (inward normals?)";
+    double edges = 0;
+    for (std::size_t t = 0; t < bem_mesh.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k)
+            edges += (bem_mesh.vertices[bem_mesh.triangles[t][k]] - bem_mesh.vertices[bem_mesh.triangles[t][(k + 1) % 3]]).norm();
+    const double tolerance = 0.25 * edges / (3.0 * double(bem_mesh.num_triangles()));
+    std::vector<double> distance(bem_mesh.num_vertices());
+    tbb::parallel_for(std::size_t(0), bem_mesh.num_vertices(), [&](std::size_t v) {
+        const Vec3& p = bem_mesh.vertices[v];
+        const Tri& t = mesh.triangles[static_cast<std::size_t>(closest_triangle(mesh, p))];
+        distance[v] = (initiate::closest_point_on_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) - p).norm();
+    });
+    const auto worst = std::max_element(distance.begin(), distance.end());
+    if (*worst > tolerance)
+        return "vertex " + std::to_string(worst - distance.begin()) + " lies " + format_number(*worst) +
+               " m from the body's surface (allowed: a quarter of the mean BEM edge, " + format_number(tolerance) +
+               " m); give a BEM mesh of this body in its material frame (the frame of input 'mesh')";
+    return "";
 }
 
 BreakableModel make_breakable_model(std::shared_ptr<const FractureSettings> settings, LevelSet object,

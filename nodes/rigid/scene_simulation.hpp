@@ -79,6 +79,12 @@ FragmentBody fragment_body(const SurfaceMesh& material_mesh, double volume, doub
 // outward by `offset_voxels` of that grid (retried without offset when the offset folds it).
 SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles, double offset_voxels);
 
+// Why `bem_mesh` cannot be a breakable body's BEM surface for `mesh` (both in the material frame),
+// or "" when it can: it must be a closed, consistently oriented 2-manifold enclosing positive
+// volume, with every vertex within a quarter of its mean edge length of `mesh` (a remesh offset by a
+// voxel passes; a mesh of another object, scale or placement does not).
+std::string bem_mesh_problem(const SurfaceMesh& bem_mesh, const SurfaceMesh& mesh);
+
 // Remeshes `object` to the settings' BEM target (simplify.remesh's algorithm, one voxel outward),
 // or keeps `bem_mesh` when given (class (d) fragments keep their parent's). `volume` [m^3]: the
 // fragment's volume from segmentation (OpenVDB's LevelSetMeasure misreads fragment grids, by up to

@@ -37,17 +37,21 @@ void emit(graph::NodeContext& c, const std::function<SurfaceMesh()>& make) {
 void centre_param(graph::NodeType& t) { t.param_reals("centre", {0, 0, 0}, "m", "centre of the shape (x, y, z)").size(3); }
 
 graph::NodeType box_node() {
-    graph::NodeType t("shape.box", "Axis-aligned box; each face a uniform grid of 2*n*n triangles. Regions: x_min, "
-                                   "x_max, y_min, y_max, z_min, z_max.");
+    graph::NodeType t("shape.box", "Axis-aligned box; each face a uniform grid of triangles, n cells along every edge "
+                                   "(2*n*n triangles a face) or cells of about 'cell_size' along each axis (for slender "
+                                   "boxes, e.g. a BEM mesh of a bar). Regions: x_min, x_max, y_min, y_max, z_min, z_max.");
     t.output<SurfaceMesh>("mesh", "closed, outward-oriented box surface");
     t.param_reals("size", {1, 1, 1}, "m", "edge lengths along x, y, z").size(3).above(0);
     centre_param(t);
-    t.param_int("subdivisions", 4, "grid cells per edge (n)").range(1, 512);
+    t.param_int("subdivisions", 4, "grid cells per edge (n), when 'cell_size' is 0").range(1, 512);
+    t.param_real("cell_size", 0, "m", "> 0: round(size / cell_size) cells along each axis instead of 'subdivisions'")
+        .at_least(0);
     t.run([](graph::NodeContext& c) {
         BoxSpec s;
         s.size = vec3_param(c, "size");
         s.centre = vec3_param(c, "centre");
         s.subdivisions = static_cast<int>(c.integer("subdivisions"));
+        s.cell_size = c.real("cell_size");
         emit(c, [s] { return make_box(s); });
     });
     return t;

@@ -13,3 +13,4 @@ TEST(RigidVerification, HertzDuration) { expect_verification_case_passes("hertz_
 TEST(SceneVerification, FragmentMomentum) { expect_verification_case_passes("fragment_momentum"); }
 TEST(SceneVerification, IncompleteCrackGrows) { expect_verification_case_passes("incomplete_crack_grows"); }
 TEST(SceneVerification, SceneDeterminism) { expect_verification_case_passes("scene_determinism"); }
+TEST(SceneVerification, BeamSelfWeight) { expect_verification_case_passes("beam_self_weight"); }

@@ -194,3 +194,70 @@ TEST(SceneInputs, AnOpenMeshIsRejectedNamingTheBody) {
     EXPECT_FALSE(e.empty());
     EXPECT_TRUE(e.find("open") != std::string::npos || e.find("closed") != std::string::npos) << e;
 }
+
+// A BEM mesh given to a breakable body must be a closed surface of that body, in its frame.
+TEST(SceneInputs, ABemMeshOfAnotherShapeOrFrameIsRejected) {
+    const std::string base = "{breakable: true, r_f: 0.01, position: [0, 0, 1]}";
+    auto with_bem = [&](const std::string& bem) {
+        return scene_with(base, "  bem: {type: shape.box, params: " + bem + "}\n");
+    };
+    // The same box with cells of 5 cm: accepted.
+    std::string yaml = with_bem("{size: [0.2, 0.2, 0.2], cell_size: 0.05}");
+    const auto insert_input = [](std::string y) {
+        const std::string from = "inputs: {mesh: mesh.mesh, material: weak.material}";
+        y.replace(y.find(from), from.size(), "inputs: {mesh: mesh.mesh, bem_mesh: bem.mesh, material: weak.material}");
+        return y;
+    };
+    EXPECT_EQ(run_scene_text(insert_input(yaml), "bem-ok"), "");
+    // Twice the size, or moved by 5 cm: the vertex and its distance are named.
+    for (const std::string& bem : {std::string("{size: [0.4, 0.4, 0.4], cell_size: 0.1}"),
+                                   std::string("{size: [0.2, 0.2, 0.2], centre: [0.05, 0, 0], cell_size: 0.05}")}) {
+        const std::string e = run_scene_text(insert_input(with_bem(bem)), "bem-bad");
+        EXPECT_NE(e.find("body 'box', input 'bem_mesh': vertex "), std::string::npos) << e;
+        EXPECT_NE(e.find("from the body's surface"), std::string::npos) << e;
+    }
+}
+
+// breaking_bar (thesis fig. 30), fast mode: the bar dropped 0.5 mm onto its supports breaks in the
+// first frame, between the supports (where it bends): its two largest fragments each hold one end of
+// the bar and reach past their support, every other fragment lies between the supports.
+TEST(Scene, BreakingBarBreaksBetweenItsSupports) {
+    const fs::path out = cf::testing::temp_dir("breaking-bar");
+    std::string log;
+    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + CRACKFLOW_SOURCE_DIR +
+                                   "/pipelines/breaking_bar.yaml --fast --out " + out.string(),
+                               log);
+    ASSERT_EQ(rc, 0) << log;
+    std::istringstream runs(read_file(out / "fracture_runs.csv"));
+    std::string header, first;
+    std::getline(runs, header);
+    std::getline(runs, first);
+    EXPECT_EQ(first.rfind("1,bar,", 0), 0u) << first;
+    // fragments.csv of that run: index, volume, bbox min xyz, bbox max xyz, centroid xyz, voxels.
+    std::vector<std::vector<double>> frags;
+    for (const auto& dir : fs::directory_iterator(out / "fracture_runs"))
+        if (dir.path().filename().string().find("_bar") != std::string::npos &&
+            dir.path().filename().string().rfind("1_0_", 0) == 0) {
+            std::istringstream csv(read_file(dir.path() / "fragments.csv"));
+            std::string line;
+            std::getline(csv, line);
+            while (std::getline(csv, line)) {
+                std::vector<double> v;
+                std::stringstream ls(line);
+                for (std::string col; std::getline(ls, col, ',');) v.push_back(std::stod(col));
+                frags.push_back(v);
+            }
+        }
+    ASSERT_GE(frags.size(), 3u) << "the bar did not break in its first run";
+    std::sort(frags.begin(), frags.end(), [](const auto& a, const auto& b) { return a[1] > b[1]; });
+    const double support = 0.65, half_width = 0.05, end = 0.75;
+    const auto& left = frags[0][8] < 0 ? frags[0] : frags[1];
+    const auto& right = frags[0][8] < 0 ? frags[1] : frags[0];
+    EXPECT_NEAR(left[2], -end, 0.01);                      // holds the left end ...
+    EXPECT_LT(left[5], -(support - half_width) + 0.5);     // ... ends between the supports ...
+    EXPECT_GT(left[5], -(support - half_width));           // ... past its support's inner edge
+    EXPECT_NEAR(right[5], end, 0.01);
+    EXPECT_GT(right[2], (support - half_width) - 0.5);
+    EXPECT_LT(right[2], support - half_width);
+    for (std::size_t k = 2; k < frags.size(); ++k) EXPECT_LT(std::abs(frags[k][8]), support - half_width) << k;
+}

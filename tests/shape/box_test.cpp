@@ -57,6 +57,39 @@ TEST(Box, SingleCellBoxIsTheTwelveTriangleCube) {
     EXPECT_DOUBLE_EQ(signed_volume(m), 8.0);
 }
 
+TEST(Box, CellSizeGivesCellsPerAxisForSlenderBoxes) {
+    // A 1.5 x 0.06 x 0.06 m bar with cells of 0.03 m: 50 x 2 x 2 cells, square cells on every face.
+    BoxSpec s;
+    s.size = Vec3(1.5, 0.06, 0.06);
+    s.cell_size = 0.03;
+    EXPECT_EQ(box_cells(s), (std::array<int, 3>{50, 2, 2}));
+    const SurfaceMesh m = make_box(s);
+    // Faces normal to x: 2 x 2 cells; to y and z: 2 x 50; two triangles a cell.
+    EXPECT_EQ(m.num_triangles(), 2u * 2 * (2 * 2 + 2 * 50 + 50 * 2));
+    EXPECT_EQ(m.num_vertices(), 51u * 3 * 3 - 49u * 1 * 1);  // lattice points on the surface
+    expect_closed_outward(m, 2);
+    EXPECT_NEAR(signed_volume(m), 1.5 * 0.06 * 0.06, 1e-15);
+    EXPECT_NEAR(region_area(m, "z_max"), 1.5 * 0.06, 1e-15);
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        const double a = triangle_area(m, t);
+        EXPECT_NEAR(a, 0.5 * 0.03 * 0.03, 1e-12) << t;  // every cell is 0.03 x 0.03
+    }
+    // A cell larger than an edge still gives one cell there.
+    s.cell_size = 0.5;
+    EXPECT_EQ(box_cells(s), (std::array<int, 3>{3, 1, 1}));
+    expect_closed_outward(make_box(s), 2);
+    // Too fine or negative: refused with the parameter.
+    s.cell_size = 1e-7;
+    EXPECT_THROW(make_box(s), std::invalid_argument);
+    s.cell_size = -1;
+    try {
+        make_box(s);
+        FAIL() << "expected an error";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("parameter 'cell_size'"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Box, BadSpecsAreRejectedNamingTheParameter) {
     BoxSpec s;
     s.size = Vec3(1, 0, 1);
