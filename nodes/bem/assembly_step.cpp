@@ -62,8 +62,9 @@ BemOperators assemble_step(const AssemblyRequest& rq, AssemblyReport& rep) {
     if (prev && !reuse && prev->estimated)
         throw std::invalid_argument("the surface mesh, material or quadrature changed after crack growth became estimated; the "
                                     "estimated openings belong to the old surface (keep the same mesh and material in the loop)");
-    out.surface = reuse ? reuse->surface : assemble_surface_operators(mesh, rq.material, rq.options);
-    rep.surface_reused = reuse != nullptr;
+    const bool given = !reuse && rq.surface_blocks && surface_reusable(*rq.surface_blocks, mesh, ec, rq.options);
+    out.surface = reuse ? reuse->surface : given ? rq.surface_blocks : assemble_surface_operators(mesh, rq.material, rq.options);
+    rep.surface_reused = reuse != nullptr || given;
     const bool has_cracks = rq.cracks && rq.cracks->num_triangles() > 0;
     rep.elements = mesh.num_triangles() + (has_cracks ? rq.cracks->num_triangles() : 0);
     const std::shared_ptr<const CrackOperators> prev_cracks = reuse ? reuse->cracks : nullptr;

@@ -16,6 +16,10 @@ struct AssemblyRequest {
     const SurfaceMesh* mesh = nullptr;             // ordinary surface
     const SurfaceMesh* cracks = nullptr;           // may be null or empty
     const BemOperators* previous = nullptr;        // may be null
+    // May be null: surface blocks assembled before for the same surface (a rigid body's earlier
+    // fracture run, ch. 7.3), used instead of assembling when surface, material and quadrature match.
+    // Unlike `previous`, nothing else (method, cracks) is carried over.
+    std::shared_ptr<const SurfaceOperators> surface_blocks;
     const CrackOpeningEstimate* openings = nullptr;  // needed once growth is estimated and nodes left a front
     Material material;
     AssemblyOptions options;

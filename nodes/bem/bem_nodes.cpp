@@ -29,6 +29,9 @@ graph::NodeType assemble_node() {
     t.input<SurfaceMesh>("mesh", "closed, outward-oriented ordinary surface (BEM resolution)");
     t.optional_input<SurfaceMesh>("cracks", "open crack sheets strictly inside the body; regions are the cracks");
     t.optional_input<bem::BemOperators>("previous", "operators of the previous step, extended append-only");
+    t.optional_input<bem::BemOperators>("reuse", "operators assembled earlier on the same surface (e.g. rigid.impact's "
+                                                 "'surface'): their surface blocks are used when surface, material and "
+                                                 "quadrature match; unlike 'previous', nothing else carries over");
     t.optional_input<Material>("material", "when connected, E and nu come from it (material.brittle) instead of the parameters");
     t.optional_input<bem::CrackOpeningEstimate>("openings",
                                                 "openings estimated for nodes the fronts left behind (fracture.geometry); used "
@@ -84,6 +87,7 @@ graph::NodeType assemble_node() {
         rq.mesh = &c.in<SurfaceMesh>("mesh");
         if (c.has("cracks")) rq.cracks = &c.in<SurfaceMesh>("cracks");
         if (c.has("previous")) rq.previous = &c.in<bem::BemOperators>("previous");
+        if (c.has("reuse")) rq.surface_blocks = c.in<bem::BemOperators>("reuse").surface;
         if (c.has("openings")) rq.openings = &c.in<bem::CrackOpeningEstimate>("openings");
         if (c.string("method") != "inherit") rq.method = bem::parse_crack_method(c.string("method"));
         rq.switch_elements = c.integer("switch_elements");
@@ -120,6 +124,9 @@ graph::NodeType solve_node() {
                       "factorisation is reused and the crack Schur factor extended when only crack unknowns were appended.");
     t.input<bem::BemOperators>("operators", "from assemble.sgbem");
     t.optional_input<bem::BemSolution>("previous", "solution of the previous step (factorisations to reuse)");
+    t.optional_input<bem::BemSolution>("reuse", "a solution on the same surface operators (e.g. rigid.impact's 'factor'): "
+                                                "its surface factorisation is used when the Dirichlet/Neumann partition "
+                                                "matches and 'previous' gives none");
     t.optional_input<bem::BoundaryConditions>(
         "conditions", "boundary conditions as a value (e.g. per-element collision tractions from rigid.impact, ch. 7.2); "
                       "when connected they replace the parameter 'boundary_conditions'");
@@ -143,7 +150,8 @@ graph::NodeType solve_node() {
             if (ops.cracks) loads.pressure.assign(ops.cracks->cracks.num_regions(), c.real("crack_pressure"));
             bem::SolveOptions so;
             so.balance_tolerance = c.real("balance_tolerance");
-            sol = bem::solve_sgbem(ops.surface, ops.solve_cracks(), bc, loads, prev, so, ops.estimated);
+            sol = bem::solve_sgbem(ops.surface, ops.solve_cracks(), bc, loads, prev, so, ops.estimated,
+                                   c.has("reuse") ? c.in<bem::BemSolution>("reuse").system : nullptr);
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("parameter boundary_conditions / inputs: ") + e.what());
         } catch (const std::runtime_error& e) {

@@ -216,7 +216,8 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                                                const std::shared_ptr<const CrackOperators>& cracks,
                                                const ResolvedConditions& bc, const CrackLoads& loads,
                                                const BemSolution* previous, const SolveOptions& options,
-                                               const std::shared_ptr<const EstimatedGrowth>& estimated) {
+                                               const std::shared_ptr<const EstimatedGrowth>& estimated,
+                                               const std::shared_ptr<const SurfaceSystem>& surface_factor) {
     const SurfaceOperators& o = *surface;
     const std::size_t M = o.geometry.size(), N = o.mesh.num_vertices();
     if (bc.dirichlet.size() != M || bc.node_fixed.size() != N)
@@ -244,6 +245,9 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
     // Surface factorisation: reuse when operators and partition are the same.
     if (previous && previous->system && previous->system->ops == surface && previous->system->dirichlet == bc.dirichlet) {
         sol->system = previous->system;
+        sol->reused_surface_factor = true;
+    } else if (surface_factor && surface_factor->ops == surface && surface_factor->dirichlet == bc.dirichlet) {
+        sol->system = surface_factor;
         sol->reused_surface_factor = true;
     } else {
         sol->system = factor_surface(surface, bc);

@@ -83,6 +83,8 @@ std::vector<char> crack_interior_nodes(const SurfaceMesh& cracks);
 
 // Solves. `previous` (may be null) provides factorisations to reuse: the surface factor when
 // operators and partition match, and the Schur factor when the crack mesh only grew.
+// `surface_factor` (may be null): a surface factorisation made before (a rigid body's earlier
+// fracture run, ch. 7.3), reused when `previous` gives none and its operators and partition match.
 // `estimated` (may be null): growth outside the system (ch. 5.2); its openings enter the surface
 // rows of the right-hand side as f <- f - B du (B du from EstimatedGrowth::k_opening, d_opening),
 // the rows of the frozen crack unknowns keep their right-hand side, and with `previous` from the
@@ -91,7 +93,8 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                                                const std::shared_ptr<const CrackOperators>& cracks,
                                                const ResolvedConditions& bc, const CrackLoads& loads,
                                                const BemSolution* previous, const SolveOptions& options = {},
-                                               const std::shared_ptr<const EstimatedGrowth>& estimated = nullptr);
+                                               const std::shared_ptr<const EstimatedGrowth>& estimated = nullptr,
+                                               const std::shared_ptr<const SurfaceSystem>& surface_factor = nullptr);
 
 // The crack mesh of a solution: the estimated growth's when there is one, else the system's (null: none).
 const SurfaceMesh* current_crack_mesh(const BemSolution& sol);

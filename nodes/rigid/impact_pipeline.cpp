@@ -2,6 +2,7 @@
 
 #include "graph/atomic_write.hpp"
 #include "graph/json_writer.hpp"
+#include "nodes/bem/bem_types.hpp"
 #include "nodes/rigid/scene_state.hpp"
 
 #include <sstream>
@@ -98,12 +99,31 @@ FractureRunner pipeline_runner(const graph::RunOptions& options,
         if (!r.ok)
             throw std::runtime_error("fracture run of body '" + run.body + "' at frame " + std::to_string(run.frame) +
                                      " (" + plan.file + "): " + r.error);
-        for (const graph::PlanNode& n : plan.nodes)
-            if (!n.is_loop() && n.type->name() == "rigid.fragments") {
-                const auto& out = r.outputs.at(n.name);
-                return ImpactOutcome{out.at("fragments").get<Fragments>(), out.at("state").ptr<propagate::FractureState>()};
+        ImpactOutcome outcome;
+        bool found = false;
+        for (const graph::PlanNode& n : plan.nodes) {
+            if (n.is_loop()) continue;
+            auto out = r.outputs.find(n.name);
+            if (out == r.outputs.end()) continue;
+            if (n.type->name() == "rigid.fragments") {
+                outcome.fragments = out->second.at("fragments").get<Fragments>();
+                outcome.state = out->second.at("state").ptr<propagate::FractureState>();
+                found = true;
             }
-        throw std::logic_error("fracture pipeline without rigid.fragments");
+            // The surface blocks and factor of the run's first assembly and solve (those without
+            // 'previous'), kept with the body for its next runs (ch. 7.3).
+            bool has_previous = false;
+            for (const graph::PlanInput& in : n.inputs) has_previous = has_previous || in.port == "previous";
+            if (has_previous) continue;
+            if (n.type->name() == "assemble.sgbem" && !outcome.surface_blocks)
+                outcome.surface_blocks = out->second.at("operators").get<bem::BemOperators>().surface;
+            if (n.type->name() == "solve.sgbem" && !outcome.surface_factor)
+                outcome.surface_factor = out->second.at("solution").get<bem::BemSolution>().system;
+        }
+        if (!found) throw std::logic_error("fracture pipeline without rigid.fragments");
+        // A factor of other operators (a pipeline whose first solve is not on its first assembly) is no use.
+        if (outcome.surface_factor && outcome.surface_factor->ops != outcome.surface_blocks) outcome.surface_factor = nullptr;
+        return outcome;
     };
 }
 

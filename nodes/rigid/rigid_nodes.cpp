@@ -4,6 +4,7 @@
 // fracture pipeline that a collision runs), export.animation (glTF and the points cache).
 #include "graph/node_context.hpp"
 #include "graph/registry.hpp"
+#include "nodes/bem/bem_types.hpp"
 #include "nodes/fields/closed_form_fields.hpp"
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/registration.hpp"
@@ -289,6 +290,10 @@ graph::NodeType impact_node() {
     t.output<ScalarField>("strength", "tensile strength field [Pa]");
     t.output<ScalarField>("toughness", "toughness field [Pa*sqrt(m)]");
     t.output<bem::BoundaryConditions>("conditions", "per-element tractions [Pa] on every element");
+    t.output<bem::BemOperators>("surface", "the body's BEM surface blocks from its last run (for assemble.sgbem's "
+                                           "'reuse'; empty before the first run)");
+    t.output<bem::BemSolution>("factor", "their pure Neumann factorisation (for solve.sgbem's 'reuse'; empty before "
+                                         "the first run)");
     t.run([](graph::NodeContext& c) {
         const graph::Value* v = c.pipeline_input("impact");
         if (!v)
@@ -304,6 +309,14 @@ graph::NodeType impact_node() {
         c.out("strength", m.settings->strength);
         c.out("toughness", m.settings->toughness);
         c.out("conditions", run.conditions);
+        bem::BemOperators surface;
+        surface.surface = m.surface_blocks;
+        c.out("surface", std::move(surface));
+        bem::BemSolution factor;
+        factor.surface = m.surface_blocks;
+        factor.system = m.surface_factor;
+        c.out("factor", std::move(factor));
+        c.count("surface_cached", m.surface_blocks ? 1 : 0);
     });
     return t;
 }

@@ -355,6 +355,10 @@ struct SceneSimulation::Impl {
             try {
                 BreakableModel bm =
                     make_breakable_model(fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr, f.volume);
+                if (cls == PieceClass::large) {  // the parent's BEM mesh, so its operators and factor too (ch. 7.3 (d))
+                    bm.surface_blocks = model.surface_blocks;
+                    bm.surface_factor = model.surface_factor;
+                }
                 if (cracks && cracks->cracks.num_triangles() > 0) {
                     propagate::FragmentCracks fc = propagate::restrict_to_fragment(*cracks, f.grid, *bm.bem_mesh);
                     if (fc.state.cracks.num_triangles() > 0) {
@@ -439,6 +443,14 @@ struct SceneSimulation::Impl {
         std::vector<std::size_t> run_of_break;  // index into runs per entry of broken
         std::vector<std::shared_ptr<const propagate::FractureState>> state_of_break;
         for (Candidate& c : candidates) {
+            // The run's surface blocks and factor stay with the body (and a class (d) fragment of it).
+            if (c.outcome.surface_blocks && c.outcome.surface_blocks != pieces[static_cast<std::size_t>(c.piece)].breakable->surface_blocks) {
+                Piece& q = pieces[static_cast<std::size_t>(c.piece)];
+                BreakableModel m = *q.breakable;
+                m.surface_blocks = c.outcome.surface_blocks;
+                m.surface_factor = c.outcome.surface_factor;
+                q.breakable = std::make_shared<const BreakableModel>(std::move(m));
+            }
             const Piece& p = pieces[static_cast<std::size_t>(c.piece)];
             FractureRunRecord r;
             r.frame = frame;

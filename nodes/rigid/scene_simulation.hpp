@@ -13,6 +13,7 @@
 // material_to_body places that frame in its body frame (centre of mass, principal axes), and
 // Bullet's pose places the body frame in the world. SI units throughout.
 #include "nodes/bem/boundary_conditions.hpp"
+#include "nodes/bem/solver.hpp"
 #include "nodes/domain/material.hpp"
 #include "nodes/fields/scalar_field.hpp"
 #include "nodes/levelset/level_set.hpp"
@@ -60,6 +61,11 @@ struct BreakableModel {
     // Incomplete cracks from earlier runs (ch. 7.3, fig. 43): the next run starts from them, so old
     // cracks grow again. Null: the body has none.
     std::shared_ptr<const propagate::FractureState> cracks;
+    // The BEM surface blocks and their pure Neumann factorisation (D_R, eq. 7.4) from an earlier run
+    // on bem_mesh: later runs of the body, and its class (d) fragment that keeps bem_mesh (ch. 7.3),
+    // reuse them instead of assembling and factorising again. Null before the first run.
+    std::shared_ptr<const bem::SurfaceOperators> surface_blocks;
+    std::shared_ptr<const bem::SurfaceSystem> surface_factor;
 };
 
 // A fragment as a rigid body (ch. 7.3): `material_mesh` is its surface in the parent's material frame,
@@ -133,6 +139,9 @@ struct ImpactRun {
 struct ImpactOutcome {
     Fragments fragments;
     std::shared_ptr<const propagate::FractureState> state;  // may be null (a pipeline without one)
+    // The run's first surface assembly and factorisation (BreakableModel::surface_blocks/factor); may be null.
+    std::shared_ptr<const bem::SurfaceOperators> surface_blocks;
+    std::shared_ptr<const bem::SurfaceSystem> surface_factor;
 };
 using FractureRunner = std::function<ImpactOutcome(const ImpactRun&)>;
 

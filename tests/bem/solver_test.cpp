@@ -1,4 +1,5 @@
 // Solver-level checks: the registered verification cases, bad inputs, incremental cracks.
+#include "nodes/bem/assembly_step.hpp"
 #include "nodes/bem/bem_verification.hpp"
 #include "nodes/bem/test_meshes.hpp"
 #include "tests/harness/expect_error.hpp"
@@ -199,4 +200,43 @@ TEST(BemSolve, MixedSolveBitIdenticalForOneAndTwoThreads) {
     }
     EXPECT_TRUE(a->displacement == b->displacement);
     EXPECT_TRUE(a->traction == b->traction);
+}
+
+// Surface blocks and a factorisation from an earlier run on the same surface (a rigid body's next
+// fracture run, or its class (d) fragment, thesis ch. 7.3) are used as they are, and the solution is
+// bit-identical to assembling and factorising again; blocks of another material are not used.
+TEST(BemSolve, GivenSurfaceBlocksAndFactorAreReusedOnlyWhenTheyMatch) {
+    const SurfaceMesh m = bem_cube_mesh(2, 1.0);
+    AssemblyRequest first;
+    first.mesh = &m;
+    first.material = unit_material();
+    first.options.single_layer = false;
+    AssemblyReport rep;
+    const BemOperators a = assemble_step(first, rep);
+    EXPECT_FALSE(rep.surface_reused);
+    BoundaryConditions b = parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0");
+    const ResolvedConditions bc = resolve(b, m);
+    const auto fresh = solve_sgbem(a.surface, nullptr, bc, {}, nullptr);
+
+    AssemblyRequest again = first;
+    again.surface_blocks = a.surface;
+    const BemOperators a2 = assemble_step(again, rep);
+    EXPECT_TRUE(rep.surface_reused);
+    EXPECT_EQ(a2.surface, a.surface);
+    const auto reused = solve_sgbem(a2.surface, nullptr, bc, {}, nullptr, {}, nullptr, fresh->system);
+    EXPECT_TRUE(reused->reused_surface_factor);
+    EXPECT_EQ(reused->system, fresh->system);
+    EXPECT_TRUE(reused->displacement == fresh->displacement);
+
+    // Another Young's modulus: the blocks do not match and are assembled anew; a factor of other
+    // operators is not used either.
+    AssemblyRequest stiffer = again;
+    stiffer.material.E *= 2;
+    const BemOperators a3 = assemble_step(stiffer, rep);
+    EXPECT_FALSE(rep.surface_reused);
+    EXPECT_NE(a3.surface, a.surface);
+    const auto other = solve_sgbem(a3.surface, nullptr, bc, {}, nullptr, {}, nullptr, fresh->system);
+    EXPECT_FALSE(other->reused_surface_factor);
+    for (std::size_t v = 0; v < m.num_vertices(); ++v)
+        EXPECT_LT((2 * other->displacement[v] - fresh->displacement[v]).norm(), 1e-9 * fresh->displacement[v].norm() + 1e-15);
 }
