@@ -1,8 +1,9 @@
 #include "nodes/rigid/scene_simulation.hpp"
 
+#include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
 #include "nodes/domain/mesh_topology.hpp"
-#include "nodes/initiate/surface_queries.hpp"
+#include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/propagate/fragment_cracks.hpp"
 #include "nodes/propagate/propagation_law.hpp"
 #include "nodes/rigid/balanced_tractions.hpp"
@@ -117,13 +118,13 @@ std::string bem_mesh_problem(const SurfaceMesh& bem_mesh, const SurfaceMesh& mes
     tbb::parallel_for(std::size_t(0), bem_mesh.num_vertices(), [&](std::size_t v) {
         const Vec3& p = bem_mesh.vertices[v];
         const Tri& t = mesh.triangles[static_cast<std::size_t>(closest_triangle(mesh, p))];
-        distance[v] = (initiate::closest_point_on_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) - p).norm();
+        distance[v] = std::sqrt(closest_point_on_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]).distance2);
     });
     const auto worst = std::max_element(distance.begin(), distance.end());
     if (*worst > tolerance)
-        return "vertex " + std::to_string(worst - distance.begin()) + " lies " + format_number(*worst) +
-               " m from the body's surface (allowed: a quarter of the mean BEM edge, " + format_number(tolerance) +
-               " m); give a BEM mesh of this body in its material frame (the frame of input 'mesh')";
+        return "vertex " + std::to_string(worst - distance.begin()) + " lies " + graph::format_quantity(*worst, "m") +
+               " from the body's surface (allowed: a quarter of the mean BEM edge, " + graph::format_quantity(tolerance, "m") +
+               "); give a BEM mesh of this body in its material frame (the frame of input 'mesh')";
     return "";
 }
 
