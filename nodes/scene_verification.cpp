@@ -221,7 +221,9 @@ VerificationResult incomplete_crack_grows() {
             voxels_before += active_voxel_count(first.state->grids.cracks[static_cast<std::size_t>(k)]);
             voxels_after += active_voxel_count(second.state->grids.cracks[static_cast<std::size_t>(k)]);
         }
-        const bool grew = voxels_after > voxels_before && after >= before;
+        // Both the BEM sheets and the fine surfaces of the old cracks grow (the sheets did not while the
+        // bodies' BEM surfaces stood a coarse voxel outside the object: issue 12).
+        const bool grew = voxels_after > voxels_before && after > before;
         r.error = grew ? 0 : 1;
         r.passed = first.state->num_cracks() > 0 && active && grew;
         std::ostringstream d;

@@ -88,7 +88,10 @@ SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles,
     const LevelSet coarse = voxel > 1.5 * object.voxel_size ? level_set_from_mesh(fine, voxel) : object;
     RemeshOptions o;
     o.target_triangles = target_triangles;
-    o.offset_voxels = offset_voxels;
+    // The offset is in voxels of r_f (App. A item 14), not of the coarser grid remeshed from: one
+    // coarse voxel (up to a quarter of the BEM edge) made the BEM surface that much larger than the
+    // object, so hexagons initiated under it (ch. 4.4) lay outside the object and never grew.
+    o.offset_voxels = offset_voxels * object.voxel_size / coarse.voxel_size;
     // The remesh checks closedness and self-intersections; a mesh that still encloses no positive
     // volume (a sliver folded inside out) would make the BEM system indefinite: refuse it too.
     auto checked = [](SurfaceMesh m) {

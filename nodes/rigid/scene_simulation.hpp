@@ -82,7 +82,7 @@ FragmentBody fragment_body(const SurfaceMesh& material_mesh, double volume, doub
 
 // A closed surface of about `target_triangles` for `object` (BEM or collision mesh): remeshed
 // (simplify.remesh's algorithm) from a grid about a quarter of the target edge length, offset
-// outward by `offset_voxels` of that grid (retried without offset when the offset folds it).
+// outward by `offset_voxels` voxels of r_f (retried without offset when the offset folds it).
 SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles, double offset_voxels);
 
 // Why `bem_mesh` cannot be a breakable body's BEM surface for `mesh` (both in the material frame),
