@@ -24,17 +24,29 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
     std::filesystem::path vdb_path, preview_path;
     tbb::task_group tasks;
     const CancelToken cancel = CancelToken::current();  // polled per fragment mesh
+    // A task that throws cancels the task group's context, and with it the parallel loops nested in
+    // the other tasks, which then end early without an error: the preview was written half rendered
+    // when the VDB write failed. Each task runs in a context of its own, so what it writes is whole.
+    auto isolated = [](auto&& body) {
+        tbb::task_group_context own(tbb::task_group_context::isolated);
+        tbb::task_group group(own);
+        group.run_and_wait(body);
+    };
     if (opt.vdb)
         tasks.run([&] {
-            std::vector<std::pair<std::string, LevelSet>> grids;
-            for (std::size_t i = 0; i < n; ++i) grids.emplace_back(opt.prefix + std::to_string(i), f.fragments[i].grid);
-            vdb_path = dir / (opt.prefix + "s.vdb");
-            write_vdb(vdb_path, grids);
+            isolated([&] {
+                std::vector<std::pair<std::string, LevelSet>> grids;
+                for (std::size_t i = 0; i < n; ++i) grids.emplace_back(opt.prefix + std::to_string(i), f.fragments[i].grid);
+                vdb_path = dir / (opt.prefix + "s.vdb");
+                write_vdb(vdb_path, grids);
+            });
         });
     if (opt.preview)
         tasks.run([&] {
-            preview_path = dir / (opt.prefix + "s_preview.png");
-            render_fragments_preview(preview_path, f, opt.preview_options);
+            isolated([&] {
+                preview_path = dir / (opt.prefix + "s_preview.png");
+                render_fragments_preview(preview_path, f, opt.preview_options);
+            });
         });
     std::exception_ptr mesh_error;  // the tasks are waited for before any error leaves this function
     if (opt.meshes) try {
