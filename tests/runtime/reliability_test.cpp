@@ -4,6 +4,8 @@
 #include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
+
+#include <functional>
 #include <yaml-cpp/yaml.h>
 
 #include <chrono>
@@ -30,19 +32,17 @@ std::string src(const std::string& rel) { return std::string(CRACKFLOW_SOURCE_DI
 // Runs crackflow with `args`; a file-size limit of `fsize` bytes (0: none) as `ulimit -f` sets it,
 // with SIGXFSZ ignored so that a write past it fails with EFBIG (as on a full disk) instead of
 // killing the process.
-Child run_limited(const std::vector<std::string>& args, rlim_t fsize = 0) {
+// Starts crackflow with `args`, its stdout and stderr into a pipe; returns the child's pid (-1 if
+// it could not start) and the read end in `out`. `in_child` runs in the child before the exec.
+pid_t spawn_crackflow(const std::vector<std::string>& args, int& out, const std::function<void()>& in_child = {}) {
     int fds[2];
-    if (pipe(fds) != 0) return {};
+    if (pipe(fds) != 0) return -1;
     const pid_t pid = fork();
     if (pid == 0) {
         dup2(fds[1], 1);
         dup2(fds[1], 2);
         close(fds[0]);
-        if (fsize > 0) {
-            rlimit lim{fsize, fsize};
-            setrlimit(RLIMIT_FSIZE, &lim);
-        }
-        std::signal(SIGXFSZ, SIG_IGN);
+        if (in_child) in_child();
         std::vector<char*> argv{const_cast<char*>(CRACKFLOW_EXE)};
         for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
         argv.push_back(nullptr);
@@ -50,6 +50,20 @@ Child run_limited(const std::vector<std::string>& args, rlim_t fsize = 0) {
         _exit(99);
     }
     close(fds[1]);
+    out = fds[0];
+    return pid;
+}
+
+Child run_limited(const std::vector<std::string>& args, rlim_t fsize = 0) {
+    int fds[2];
+    const pid_t pid = spawn_crackflow(args, fds[0], [fsize] {
+        if (fsize > 0) {
+            rlimit lim{fsize, fsize};
+            setrlimit(RLIMIT_FSIZE, &lim);
+        }
+        std::signal(SIGXFSZ, SIG_IGN);
+    });
+    if (pid < 0) return {};
     Child c;
     char buf[4096];
     ssize_t n;
@@ -122,7 +136,9 @@ TEST(Reliability, VdbWritesUnderAFileSizeLimitFailCleanly) {
         for (const auto& [name, bytes] : written) {
             EXPECT_NE(name.rfind('.', 0), 0u) << tag << ": temporary left behind: " << name;
             // Every file that is there is complete: as large as in the unlimited run.
-            if (sizes.count(name) && name != "report.json") EXPECT_EQ(bytes, sizes.at(name)) << tag << ": " << name;
+            if (sizes.count(name) && name != "report.json") {
+                EXPECT_EQ(bytes, sizes.at(name)) << tag << ": " << name;
+            }
         }
     };
     // The object grid is the first file written: a limit below its size fails it.
@@ -202,19 +218,8 @@ struct Interrupted {
 // sends `sig` and measures how long the process takes to exit.
 Interrupted interrupt_when(const std::vector<std::string>& args, const std::string& marker, double delay, int sig) {
     int fds[2];
-    if (pipe(fds) != 0) return {};
-    const pid_t pid = fork();
-    if (pid == 0) {
-        dup2(fds[1], 1);
-        dup2(fds[1], 2);
-        close(fds[0]);
-        std::vector<char*> argv{const_cast<char*>(CRACKFLOW_EXE)};
-        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        execv(CRACKFLOW_EXE, argv.data());
-        _exit(99);
-    }
-    close(fds[1]);
+    const pid_t pid = spawn_crackflow(args, fds[0]);
+    if (pid < 0) return {};
     Interrupted r;
     char buf[4096];
     ssize_t n;
