@@ -22,6 +22,9 @@ graph::NodeType cracks_node() {
     t.input<bem::BemSolution>("solution", "from solve.sgbem for the state's crack sheets");
     t.input<propagate::FractureState>("state", "fracture state of the step");
     t.input<ScalarField>("strength", "tensile strength field [Pa] (quantity strength); its f_c scales compression");
+    t.optional_input<LevelSet>("object",
+                               "level set of the object; when connected, a hexagon whose centre lies outside it is skipped "
+                               "(needed where the BEM surface is larger than the object: a scene's class (d) fragment)");
     t.output<propagate::FractureState>("state", "the state with the new cracks (fresh fronts, recorded hexagons)");
     t.param_int("max_cracks", 10, "largest number of stress-initiated cracks in the whole simulation (App. A item 21)")
         .at_least(0);
@@ -37,6 +40,7 @@ graph::NodeType cracks_node() {
         initiate::CrackInitiationSettings s;
         s.max_cracks = static_cast<int>(c.integer("max_cracks"));
         s.branching = c.boolean("branching");
+        if (c.has("object")) s.object = &c.in<LevelSet>("object");
         initiate::CrackInitiationReport r;
         try {
             r = initiate::initiate_cracks(state, c.in<bem::BemSolution>("solution"), strength, s);

@@ -52,7 +52,7 @@ CrackInitiationReport initiate_cracks(propagate::FractureState& state, const bem
     s.max_cracks = settings.max_cracks;
     s.existing_cracks = state.cracks_initiated;
     const CandidateCheck admissible = [&](const Initiation& c) {
-        if (!inside_closed_mesh(surface, c.centre)) {
+        if (!inside_closed_mesh(surface, c.centre) || (settings.object && !(sample(*settings.object, c.centre) < 0))) {
             ++rep.skipped_outside;
             return false;
         }

@@ -4,6 +4,7 @@
 // the fracture state. SI units.
 #include "nodes/bem/solver.hpp"
 #include "nodes/initiate/initiation.hpp"
+#include "nodes/levelset/level_set.hpp"
 #include "nodes/propagate/fracture_state.hpp"
 
 namespace cf::initiate {
@@ -11,6 +12,11 @@ namespace cf::initiate {
 struct CrackInitiationSettings {
     int max_cracks = 1;      // App. A item 21: limit on stress-initiated cracks in the whole run (d)
     bool branching = false;  // crack faces may initiate too (branching cracks)
+    // The object's level set, or null: a hexagon whose centre is not inside it is skipped too. The
+    // ordinary BEM surface alone does not tell: a fragment that keeps its parent's BEM mesh (ch. 7.3,
+    // class (d)) is smaller than that mesh where a chip broke off, and a hexagon there would start
+    // outside the material and never record a voxel.
+    const LevelSet* object = nullptr;
 };
 
 struct CrackInitiationReport {
@@ -19,7 +25,7 @@ struct CrackInitiationReport {
     int from_crack_faces = 0;        // ... branching off crack faces
     int crack_face_candidates = 0;   // crack elements considered (branching on)
     SelectionCounts selection;       // over strength, skipped near a front, rejected below
-    int skipped_outside = 0;         // hexagon centre not inside the ordinary surface
+    int skipped_outside = 0;         // hexagon centre not inside the ordinary surface (or the object)
     int skipped_surface = 0;         // hexagon touches or crosses the ordinary BEM surface
     int skipped_crack = 0;           // hexagon touches or crosses an existing (or just added) crack sheet
     std::size_t triangles_added = 0;

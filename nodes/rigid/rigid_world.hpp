@@ -90,7 +90,7 @@ public:
     // whose bodies start inside one another).
     std::vector<std::pair<int, int>> overlaps(double depth);
 
-    void step();                        // one fixed time step
+    void step();                        // one fixed time step; throws Cancelled when the run is cancelled
     double time() const;                // simulated time [s]
     std::size_t num_bodies() const;
     BodyState state(int id) const;

@@ -167,12 +167,17 @@ struct Piece {
     // is not run again every step for the same load, only for one 25 % larger.
     double withstood_impulse = 0, withstood_force = 0;
     int parent = -1;             // piece it broke from
+    int root = -1;               // the authored body it descends from (itself for an authored body)
     long long born_step = 0;     // rigid step it was made in
 };
 // Fragments of one break start a gap of sqrt(3) r_f apart, closer than Bullet's collision margins,
-// and their convex hulls overlap: the impulses that push siblings apart in their first steps are
-// contact resolution, not impacts, and start no fracture runs.
-constexpr long long sibling_grace_steps = 10;
+// and their convex hulls overlap: the impulses that push them apart in their first steps are contact
+// resolution, not impacts, and start no fracture runs. This holds across breaks in quick succession
+// too: when a fragment breaks again a few steps after its parent did, the debris of the first break
+// still overlaps the new pieces (a shot bunny's core was otherwise re-run every step, chipped by its
+// own debris). So contacts between two pieces of the same authored body that were both made in the
+// last `fresh_debris_steps` steps are not impacts.
+constexpr long long fresh_debris_steps = 10;
 constexpr double rerun_factor = 1.25;
 
 struct SceneSimulation::Impl {
@@ -240,9 +245,11 @@ struct SceneSimulation::Impl {
                 const int id = ids[side], other = ids[1 - side];
                 if (id < 0 || !pieces[static_cast<std::size_t>(id)].breakable) continue;
                 const Piece& p = pieces[static_cast<std::size_t>(id)];
-                if (other >= 0 && p.parent >= 0 && pieces[static_cast<std::size_t>(other)].parent == p.parent &&
-                    step_index - std::max(p.born_step, pieces[static_cast<std::size_t>(other)].born_step) < sibling_grace_steps)
-                    continue;
+                if (other >= 0 && p.parent >= 0) {
+                    const Piece& q = pieces[static_cast<std::size_t>(other)];
+                    if (q.parent >= 0 && q.root == p.root && step_index - std::min(p.born_step, q.born_step) < fresh_debris_steps)
+                        continue;
+                }
                 const Eigen::Isometry3d world_to_material =
                     p.material_to_body.inverse() * body_to_world(now[static_cast<std::size_t>(id)]).inverse();
                 BodyContact bc;
@@ -338,6 +345,7 @@ struct SceneSimulation::Impl {
         Piece& piece = out.piece;
         piece.dynamic = true;
         piece.parent = parent_id;
+        piece.root = parent.root;
         piece.born_step = step_index;
         piece.E = parent.E;
         piece.nu = parent.nu;
@@ -515,7 +523,10 @@ struct SceneSimulation::Impl {
         for (std::size_t b = 0; b < broken.size(); ++b)
             for (const Fragment* f : broken[b].second) jobs.push_back({b, f});
         std::vector<PreparedFragment> prepared(jobs.size());
+        const CancelToken cancel = CancelToken::current();  // read here: workers have no node of their own
         tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
+            cancel.poll();
+            const CancelScope scope(cancel);  // the remesh and meshing inside poll it too
             const int id = broken[jobs[k].broken].first;
             prepared[k] = prepare_fragment(id, before[static_cast<std::size_t>(id)], *jobs[k].fragment, frame,
                                            state_of_break[jobs[k].broken]);
@@ -561,6 +572,7 @@ SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& 
         if (!names.emplace(b->name, 0).second)
             throw std::invalid_argument("scene: two bodies are named '" + b->name + "'; body names must be unique");
         Piece piece;
+        piece.root = static_cast<int>(impl_->pieces.size());  // its id once added
         piece.dynamic = b->kind == BodyKind::dynamic;
         piece.E = b->E;
         piece.nu = b->nu;

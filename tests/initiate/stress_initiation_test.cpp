@@ -5,6 +5,8 @@
 #include "nodes/initiate/element_stresses.hpp"
 #include "nodes/initiate/stress_initiation.hpp"
 #include "nodes/initiate/user_crack.hpp"
+#include "nodes/levelset/level_set.hpp"
+#include "nodes/shape/box.hpp"
 #include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
@@ -123,6 +125,35 @@ TEST(InitiateCracks, UniaxialTensionStartsCracksNormalToTheLoad) {
     const CrackInitiationReport none = initiate_cracks(strong, *sol, strength_field(2 * sigma, 2), set);
     EXPECT_EQ(none.selection.over_strength, 0);
     EXPECT_EQ(strong.num_cracks(), 0);
+}
+
+// A BEM surface larger than the object (a scene's class (d) fragment keeps its parent's BEM mesh
+// where a chip broke off): with the object's level set given, no hexagon starts outside it. Here
+// the object is the half x < 0 of the loaded cube; every element is over strength.
+TEST(InitiateCracks, HexagonsOutsideTheObjectAreSkipped) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(4, L);
+    const auto sol = solve_uniaxial(cube, sigma);
+    BoxSpec half;
+    half.size = Vec3(L / 2, L, L);
+    half.centre = Vec3(-L / 4, 0, 0);
+    half.subdivisions = 2;
+    const LevelSet object = level_set_from_mesh(make_box(half), r_f);
+    CrackInitiationSettings set;
+    set.max_cracks = 16;
+    propagate::FractureState all = fresh_state(cube), inside = fresh_state(cube);
+    const CrackInitiationReport without = initiate_cracks(all, *sol, strength_field(0.5 * sigma, 2), set);
+    set.object = &object;
+    const CrackInitiationReport with = initiate_cracks(inside, *sol, strength_field(0.5 * sigma, 2), set);
+    EXPECT_EQ(without.skipped_outside, 0);
+    EXPECT_GT(with.skipped_outside, 0);
+    EXPECT_GT(with.cracks_added, 0);
+    auto on_positive_side = [](const propagate::FractureState& s) {
+        int n = 0;
+        for (int r = 0; r < s.num_cracks(); ++r) n += s.cracks.vertices[region_vertices(s, r).front()].x() > 0 ? 1 : 0;
+        return n;
+    };
+    EXPECT_GT(on_positive_side(all), 0) << "the test would not tell: no crack started at x > 0 without the object";
+    EXPECT_EQ(on_positive_side(inside), 0);
 }
 
 TEST(InitiateCracks, CompressionUsesTheCompressiveFactorAndTheMinimalPrincipalStress) {
