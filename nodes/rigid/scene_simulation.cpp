@@ -166,6 +166,9 @@ struct Piece {
     // The largest loads it withstood in a run that did not break it: a body resting on its supports
     // is not run again every step for the same load, only for one 25 % larger.
     double withstood_impulse = 0, withstood_force = 0;
+    // A run on it failed (e.g. its remeshed BEM surface gave an indefinite D_R, eq. 7.4): its surface
+    // and model are unchanged, so every later run would fail the same way. It stays whole for good.
+    bool run_failed = false;
     int parent = -1;             // piece it broke from
     int root = -1;               // the authored body it descends from (itself for an authored body)
     long long born_step = 0;     // rigid step it was made in
@@ -299,6 +302,7 @@ struct SceneSimulation::Impl {
             c.piece = id;
             c.loads = impact_loads(*p.breakable->bem_mesh, p.breakable->curvature, contact_body(p, 0), contacts,
                                    settings.world.time_step, fs.limits);
+            if (p.run_failed) continue;
             const bool impulse = c.loads.impulse >= fs.impulse_threshold && c.loads.impulse > rerun_factor * p.withstood_impulse;
             const bool force = c.loads.force >= fs.force_threshold && c.loads.force > rerun_factor * p.withstood_force;
             if (!impulse && !force) continue;
@@ -497,6 +501,7 @@ struct SceneSimulation::Impl {
                 Piece& q = pieces[static_cast<std::size_t>(c.piece)];
                 q.withstood_impulse = std::max(q.withstood_impulse, c.loads.impulse);
                 q.withstood_force = std::max(q.withstood_force, c.loads.force);
+                q.run_failed = q.run_failed || !r.error.empty();
                 // Cracks that did not separate the body stay in it and grow again later (ch. 7.3).
                 if (state && state->cracks.num_triangles() > 0 && r.error.empty()) {
                     BreakableModel m = *q.breakable;
