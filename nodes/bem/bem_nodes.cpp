@@ -16,27 +16,9 @@
 namespace cf {
 namespace {
 
-graph::NodeType assemble_node() {
-    graph::NodeType t("assemble.sgbem",
-                      "Dense SGBEM blocks V, K, D of a closed surface and W, X, Y of crack sheets (thesis eq. 2.26, 2.38). "
-                      "With 'previous', the surface blocks are reused when the surface and settings are unchanged, and only "
-                      "crack elements appended since then are integrated (each element pair exactly once). 'method' chooses "
-                      "how crack growth enters (ch. 5): full (every opening a BEM unknown), estimator (the cracks given to the "
-                      "first assembly are solved once; later growth carries openings estimated by eq. (5.5) whose influence "
-                      "f <- f - B du is integrated element by element, B and Y never assembled), or hybrid (full until the "
-                      "mesh exceeds 'switch_elements', then as estimator, fig. 40). Set it on the first assembly; the loop's "
-                      "assembly inherits it through 'previous'.");
-    t.input<SurfaceMesh>("mesh", "closed, outward-oriented ordinary surface (BEM resolution)");
-    t.optional_input<SurfaceMesh>("cracks", "open crack sheets strictly inside the body; regions are the cracks");
-    t.optional_input<bem::BemOperators>("previous", "operators of the previous step, extended append-only");
-    t.optional_input<bem::BemOperators>("reuse", "operators assembled earlier on the same surface (e.g. rigid.impact's "
-                                                 "'surface'): their surface blocks are used when surface, material and "
-                                                 "quadrature match; unlike 'previous', nothing else carries over");
-    t.optional_input<Material>("material", "when connected, E and nu come from it (material.brittle) instead of the parameters");
-    t.optional_input<bem::CrackOpeningEstimate>("openings",
-                                                "openings estimated for nodes the fronts left behind (fracture.geometry); used "
-                                                "once growth is estimated, ignored by the full BEM");
-    t.output<bem::BemOperators>("operators", "immutable; blocks shared with 'previous' where unchanged");
+// assemble.sgbem's declaration and run, in steps.
+
+void declare_assemble_params(graph::NodeType& t) {
     t.param_real("E", 3.1e9, "Pa", "Young's modulus").above(0);
     t.param_real("nu", 0.327, "", "Poisson's ratio").range(0, 0.4999);
     t.param_int("singular_order", 5, "Gauss points per direction of the Sauter-Schwab rules (5: ~1e-5 operator error)")
@@ -63,57 +45,99 @@ graph::NodeType assemble_node() {
                    "of sqrt(distance); sif.fronts reads K from them: front-average K_I within 0.5 % on the penny crack; "
                    "docs/architecture.md). Full BEM only (estimated growth uses the estimator). inherit = linear on a "
                    "first assembly, the previous operators' choice with 'previous'; set it on the first assembly");
-    t.run([](graph::NodeContext& c) {
-        bem::AssemblyRequest rq;
-        rq.opening_update = c.boolean("opening_update");
-        if (c.string("front_elements") != "inherit") rq.tip_elements = c.string("front_elements") == "square_root";
-        rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
-        rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
-        rq.options.single_layer = c.boolean("single_layer");
-        const double available = available_memory_bytes();
-        if (c.real("memory_budget") * 1e9 > available && available > 0) {
-            std::ostringstream m;
-            m.precision(3);
-            m << "parameter 'memory_budget' is " << c.real("memory_budget") << " GB, more than the " << available / 1e9
-              << " GB this process may use (physical memory, or a ulimit); dense blocks that large would swap or be "
-                 "killed. Use at most "
-              << available / 1e9 << " (0: half of it)";
-            c.fail(m.str());
-        }
-        rq.options.memory_budget_bytes = c.real("memory_budget") > 0 ? c.real("memory_budget") * 1e9 : default_memory_budget_bytes();
-        rq.material.E = c.real("E");
-        rq.material.nu = c.real("nu");
-        if (c.has("material")) rq.material = c.in<Material>("material");
-        rq.mesh = &c.in<SurfaceMesh>("mesh");
-        if (c.has("cracks")) rq.cracks = &c.in<SurfaceMesh>("cracks");
-        if (c.has("previous")) rq.previous = &c.in<bem::BemOperators>("previous");
-        if (c.has("reuse")) rq.surface_blocks = c.in<bem::BemOperators>("reuse").surface;
-        if (c.has("openings")) rq.openings = &c.in<bem::CrackOpeningEstimate>("openings");
-        if (c.string("method") != "inherit") rq.method = bem::parse_crack_method(c.string("method"));
-        rq.switch_elements = c.integer("switch_elements");
-        rq.step = c.iteration() + 1;
-        bem::AssemblyReport rep;
-        bem::BemOperators out;
-        try {
-            out = bem::assemble_step(rq, rep);
-        } catch (const std::invalid_argument& e) {
-            c.fail(e.what());
-        }
-        c.count("surface_reused", rep.surface_reused ? 1 : 0);
-        c.count("surface_pairs_computed", rep.surface_reused ? 0.0 : static_cast<double>(out.surface->pairs_computed));
-        c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
-        c.count("tip_pairs_computed", static_cast<double>(rep.tip_pairs));
-        if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
-        c.count("elements", static_cast<double>(rep.elements));
-        c.count("growth_estimated", rep.estimated ? 1 : 0);
-        if (rep.switched) {
-            c.count("switched_to_estimator", 1);
-            c.count("switch_step", rq.step);  // BEM step: 0 for the assembly before the loop, k + 1 in iteration k
-        }
-        if (out.estimated) c.count("estimated_nodes_added", static_cast<double>(out.estimated->nodes_last));
-        c.count("triangles", static_cast<double>(rq.mesh->num_triangles()));
-        c.out("operators", std::move(out));
-    });
+}
+
+// The memory budget [bytes]: at most what this process may use.
+double assembly_memory_budget(graph::NodeContext& c) {
+    const double available = available_memory_bytes();
+    if (c.real("memory_budget") * 1e9 > available && available > 0) {
+        std::ostringstream m;
+        m.precision(3);
+        m << "parameter 'memory_budget' is " << c.real("memory_budget") << " GB, more than the " << available / 1e9
+          << " GB this process may use (physical memory, or a ulimit); dense blocks that large would swap or be "
+             "killed. Use at most "
+          << available / 1e9 << " (0: half of it)";
+        c.fail(m.str());
+    }
+    return c.real("memory_budget") > 0 ? c.real("memory_budget") * 1e9 : default_memory_budget_bytes();
+}
+
+// The assembly request from the parameters and inputs.
+bem::AssemblyRequest assembly_request(graph::NodeContext& c) {
+    bem::AssemblyRequest rq;
+    rq.opening_update = c.boolean("opening_update");
+    if (c.string("front_elements") != "inherit") rq.tip_elements = c.string("front_elements") == "square_root";
+    rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
+    rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
+    rq.options.single_layer = c.boolean("single_layer");
+    rq.options.memory_budget_bytes = assembly_memory_budget(c);
+    rq.material.E = c.real("E");
+    rq.material.nu = c.real("nu");
+    if (c.has("material")) rq.material = c.in<Material>("material");
+    rq.mesh = &c.in<SurfaceMesh>("mesh");
+    if (c.has("cracks")) rq.cracks = &c.in<SurfaceMesh>("cracks");
+    if (c.has("previous")) rq.previous = &c.in<bem::BemOperators>("previous");
+    if (c.has("reuse")) rq.surface_blocks = c.in<bem::BemOperators>("reuse").surface;
+    if (c.has("openings")) rq.openings = &c.in<bem::CrackOpeningEstimate>("openings");
+    if (c.string("method") != "inherit") rq.method = bem::parse_crack_method(c.string("method"));
+    rq.switch_elements = c.integer("switch_elements");
+    rq.step = c.iteration() + 1;
+    return rq;
+}
+
+void count_assembly(graph::NodeContext& c, const bem::AssemblyRequest& rq, const bem::AssemblyReport& rep,
+                    const bem::BemOperators& out) {
+    c.count("surface_reused", rep.surface_reused ? 1 : 0);
+    c.count("surface_pairs_computed", rep.surface_reused ? 0.0 : static_cast<double>(out.surface->pairs_computed));
+    c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
+    c.count("tip_pairs_computed", static_cast<double>(rep.tip_pairs));
+    if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
+    c.count("elements", static_cast<double>(rep.elements));
+    c.count("growth_estimated", rep.estimated ? 1 : 0);
+    if (rep.switched) {
+        c.count("switched_to_estimator", 1);
+        c.count("switch_step", rq.step);  // BEM step: 0 for the assembly before the loop, k + 1 in iteration k
+    }
+    if (out.estimated) c.count("estimated_nodes_added", static_cast<double>(out.estimated->nodes_last));
+    c.count("triangles", static_cast<double>(rq.mesh->num_triangles()));
+}
+
+void run_assemble(graph::NodeContext& c) {
+    const bem::AssemblyRequest rq = assembly_request(c);
+    bem::AssemblyReport rep;
+    bem::BemOperators out;
+    try {
+        out = bem::assemble_step(rq, rep);
+    } catch (const std::invalid_argument& e) {
+        c.fail(e.what());
+    }
+    count_assembly(c, rq, rep, out);
+    c.out("operators", std::move(out));
+}
+
+graph::NodeType assemble_node() {
+    graph::NodeType t("assemble.sgbem",
+                      "Dense SGBEM blocks V, K, D of a closed surface and W, X, Y of crack sheets (thesis eq. 2.26, 2.38). "
+                      "With 'previous', the surface blocks are reused when the surface and settings are unchanged, and only "
+                      "crack elements appended since then are integrated (each element pair exactly once). 'method' chooses "
+                      "how crack growth enters (ch. 5): full (every opening a BEM unknown), estimator (the cracks given to the "
+                      "first assembly are solved once; later growth carries openings estimated by eq. (5.5) whose influence "
+                      "f <- f - B du is integrated element by element, B and Y never assembled), or hybrid (full until the "
+                      "mesh exceeds 'switch_elements', then as estimator, fig. 40). Set it on the first assembly; the loop's "
+                      "assembly inherits it through 'previous'.");
+    t.input<SurfaceMesh>("mesh", "closed, outward-oriented ordinary surface (BEM resolution)");
+    t.optional_input<SurfaceMesh>("cracks", "open crack sheets strictly inside the body; regions are the cracks");
+    t.optional_input<bem::BemOperators>("previous", "operators of the previous step, extended append-only");
+    t.optional_input<bem::BemOperators>("reuse", "operators assembled earlier on the same surface (e.g. rigid.impact's "
+                                                 "'surface'): their surface blocks are used when surface, material and "
+                                                 "quadrature match; unlike 'previous', nothing else carries over");
+    t.optional_input<Material>("material", "when connected, E and nu come from it (material.brittle) instead of the parameters");
+    t.optional_input<bem::CrackOpeningEstimate>("openings",
+                                                "openings estimated for nodes the fronts left behind (fracture.geometry); used "
+                                                "once growth is estimated, ignored by the full BEM");
+    t.output<bem::BemOperators>("operators", "immutable; blocks shared with 'previous' where unchanged");
+    declare_assemble_params(t);
+    t.run(run_assemble);
     return t;
 }
 

@@ -268,6 +268,123 @@ SphereRun run_sphere_true_normals(int level) {
     return run;
 }
 
+namespace {
+
+// The cases that run several meshes or compare several quantities.
+
+VerificationResult sphere_true_normals_convergence() {
+    std::vector<SphereRun> runs;
+    for (int level = 1; level <= 3; ++level) runs.push_back(run_sphere_true_normals(level));
+    std::string d;
+    double last_rate = 0;
+    bool decreasing = true;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        d += std::to_string(runs[i].triangles) + " triangles h " + fmt(runs[i].h) + ": error " +
+             fmt(runs[i].error);
+        if (i > 0) {
+            last_rate = std::log(runs[i - 1].error / runs[i].error) / std::log(runs[i - 1].h / runs[i].h);
+            decreasing = decreasing && runs[i].error < runs[i - 1].error;
+            d += " (rate " + fmt(last_rate) + ")";
+        }
+        d += "; ";
+    }
+    // O(h^2) is expected asymptotically; 80 -> 320 triangles is pre-asymptotic (see
+    // docs/verification.md), so the bar is on the finest pair: rate >= 1.5.
+    VerificationResult v = result(std::max(0.0, 2.0 - last_rate), 0.5, d);
+    v.passed = v.passed && decreasing;
+    return v;
+}
+
+VerificationResult penny_crack_convergence() {
+    std::string d;
+    double last = 1e300, finest = 0;
+    bool monotone = true;
+    for (int rings : {4, 6, 8, 10}) {
+        // Side 40a: the finite cube's own effect on the opening is 0.02 % there (0.8 % at 10a).
+        const PennyRun r = run_penny_crack(rings, 4, 1.0, true, 40.0);
+        d += std::to_string(r.crack_triangles) + " crack triangles: mean K_I " + fmt(r.mean_KI_error) +
+             ", worst node " + fmt(r.max_node_KI_error) + ", centre COD " + fmt(r.centre_opening_error) + "; ";
+        monotone = monotone && r.mean_KI_error < last;
+        last = finest = r.mean_KI_error;
+    }
+    VerificationResult v = result(finest, 0.005, d + (monotone ? "monotone" : "NOT monotone"));
+    v.passed = v.passed && monotone;
+    return v;
+}
+
+VerificationResult penny_crack_convergence_displacement_correlation() {
+    std::string d;
+    double last_cod = 0, last_k = 0;
+    for (int rings : {4, 6, 8, 10}) {
+        const PennyRun r = run_penny_crack(rings, 4);
+        d += std::to_string(r.crack_triangles) + " crack triangles (h = a/" + std::to_string(rings) +
+             "): centre COD " + fmt(r.centre_opening_error) + ", max COD r<0.8a " + fmt(r.max_opening_error) +
+             ", mean K_I " + fmt(r.mean_KI_error) + ", worst node K_I " + fmt(r.max_node_KI_error) + "; ";
+        last_cod = std::abs(r.centre_opening_error);
+        last_k = r.mean_KI_error;
+    }
+    VerificationResult v = result(std::max(last_cod, last_k), 0.03, d);
+    return v;
+}
+
+VerificationResult penny_crack_opening() {
+    const PennyRun r = run_penny_crack(7, 4);
+    VerificationResult v;
+    v.error = r.max_opening_error;
+    v.tolerance = 0.03;
+    v.passed = v.error <= v.tolerance;
+    v.details = std::to_string(r.crack_triangles) + " crack triangles in a 192-triangle cube of side 10a: max " +
+                "rel. COD error (r < 0.8a) " + fmt(r.max_opening_error) + ", centre " +
+                fmt(r.centre_opening_error);
+    return v;
+}
+
+VerificationResult elliptical_crack_sif() {
+    const EllipseRun r = run_elliptical_crack(7, 0.5, 40.0);
+    VerificationResult v = result(r.max_node_error, 0.03,
+                                  std::to_string(r.crack_triangles) +
+                                      " crack triangles (7 rings scaled to b/a = 0.5), cube side 40a: worst "
+                                      "front node K_I / Irwin - 1 = " + fmt(r.max_node_error) +
+                                      ", front-average " + fmt(r.mean_ratio_error) + ", K_max / K_min " +
+                                      fmt(r.k_ratio) + " (Irwin sqrt(a/b) = 1.414)");
+    return v;
+}
+
+VerificationResult penny_crack_energy() {
+    const EnergyRun r = run_penny_energy(7, true, 40.0);
+    const double err = std::abs(r.energy - r.exact) / r.exact;
+    return result(err, 0.01, std::to_string(r.crack_triangles) + " crack triangles, cube side 40a: " +
+                                 fmt(r.energy) + " vs " + fmt(r.exact) + ", relative error " + fmt(err));
+}
+
+VerificationResult penny_crack_sif_displacement_correlation() {
+    const PennyRun r = run_penny_crack(7, 4);
+    VerificationResult v;
+    v.error = r.mean_KI_error;
+    v.tolerance = 0.05;
+    v.passed = r.mean_KI_error <= 0.05 && r.max_node_KI_error <= 0.10;
+    v.details = std::to_string(r.crack_triangles) + " crack triangles: front-average K_I error " +
+                fmt(r.mean_KI_error) + " (bar 5%), worst front node " +
+                fmt(r.max_node_KI_error) + " (bar 10%)";
+    return v;
+}
+
+VerificationResult penny_crack_sif() {
+    // Cube of side 20a: at 10a the finite body alone raises the opening by 0.8 %.
+    const PennyRun r = run_penny_crack(7, 4, 1.0, true, 20.0);
+    VerificationResult v;
+    v.error = r.mean_KI_error;
+    v.tolerance = 0.01;
+    v.passed = r.mean_KI_error <= 0.01 && r.max_node_KI_error <= 0.03;
+    v.details = std::to_string(r.crack_triangles) +
+                " crack triangles in a 192-triangle cube of side 20a: front-average K_I error " +
+                fmt(r.mean_KI_error) + " (bar 1%), worst front node " + fmt(r.max_node_KI_error) +
+                " (bar 3%), centre COD " + fmt(r.centre_opening_error);
+    return v;
+}
+
+}  // namespace
+
 }  // namespace cf::bem
 
 namespace cf {
@@ -284,123 +401,25 @@ void add_bem_verification_cases(std::vector<VerificationCase>& cases) {
                      sphere_radial_traction});
     cases.push_back({"sphere_true_normals_convergence",
                      "sphere under radial traction with true normals: O(h^2) convergence of u over 80, 320, 1280 triangles",
-                     [] {
-                         std::vector<SphereRun> runs;
-                         for (int level = 1; level <= 3; ++level) runs.push_back(run_sphere_true_normals(level));
-                         std::string d;
-                         double last_rate = 0;
-                         bool decreasing = true;
-                         for (std::size_t i = 0; i < runs.size(); ++i) {
-                             d += std::to_string(runs[i].triangles) + " triangles h " + fmt(runs[i].h) + ": error " +
-                                  fmt(runs[i].error);
-                             if (i > 0) {
-                                 last_rate = std::log(runs[i - 1].error / runs[i].error) / std::log(runs[i - 1].h / runs[i].h);
-                                 decreasing = decreasing && runs[i].error < runs[i - 1].error;
-                                 d += " (rate " + fmt(last_rate) + ")";
-                             }
-                             d += "; ";
-                         }
-                         // O(h^2) is expected asymptotically; 80 -> 320 triangles is pre-asymptotic (see
-                         // docs/verification.md), so the bar is on the finest pair: rate >= 1.5.
-                         VerificationResult v = result(std::max(0.0, 2.0 - last_rate), 0.5, d);
-                         v.passed = v.passed && decreasing;
-                         return v;
-                     }});
+                     sphere_true_normals_convergence});
     cases.push_back({"penny_crack_convergence",
                      "penny crack K_I from square-root front elements vs crack mesh size (4, 6, 8, 10 rings; cube side 40a): "
-                     "monotone decrease of the front-average error, finest below 0.5 % (issue 13)",
-                     [] {
-                         std::string d;
-                         double last = 1e300, finest = 0;
-                         bool monotone = true;
-                         for (int rings : {4, 6, 8, 10}) {
-                             // Side 40a: the finite cube's own effect on the opening is 0.02 % there (0.8 % at 10a).
-                             const PennyRun r = run_penny_crack(rings, 4, 1.0, true, 40.0);
-                             d += std::to_string(r.crack_triangles) + " crack triangles: mean K_I " + fmt(r.mean_KI_error) +
-                                  ", worst node " + fmt(r.max_node_KI_error) + ", centre COD " + fmt(r.centre_opening_error) + "; ";
-                             monotone = monotone && r.mean_KI_error < last;
-                             last = finest = r.mean_KI_error;
-                         }
-                         VerificationResult v = result(finest, 0.005, d + (monotone ? "monotone" : "NOT monotone"));
-                         v.passed = v.passed && monotone;
-                         return v;
-                     }});
+                     "monotone decrease of the front-average error, finest below 0.5 % (issue 13)", penny_crack_convergence});
     cases.push_back({"penny_crack_convergence_displacement_correlation",
                      "penny crack centre COD and front-average K_I by displacement correlation vs crack mesh size (4, 6, 8, 10 "
-                     "rings; cube side 10a; plain P1, the thesis' method)",
-                     [] {
-                         std::string d;
-                         double last_cod = 0, last_k = 0;
-                         for (int rings : {4, 6, 8, 10}) {
-                             const PennyRun r = run_penny_crack(rings, 4);
-                             d += std::to_string(r.crack_triangles) + " crack triangles (h = a/" + std::to_string(rings) +
-                                  "): centre COD " + fmt(r.centre_opening_error) + ", max COD r<0.8a " + fmt(r.max_opening_error) +
-                                  ", mean K_I " + fmt(r.mean_KI_error) + ", worst node K_I " + fmt(r.max_node_KI_error) + "; ";
-                             last_cod = std::abs(r.centre_opening_error);
-                             last_k = r.mean_KI_error;
-                         }
-                         VerificationResult v = result(std::max(last_cod, last_k), 0.03, d);
-                         return v;
-                     }});
-    cases.push_back({"penny_crack_opening", "penny crack opening vs. Sneddon, r < 0.8 a (case 5)", [] {
-                         const PennyRun r = run_penny_crack(7, 4);
-                         VerificationResult v;
-                         v.error = r.max_opening_error;
-                         v.tolerance = 0.03;
-                         v.passed = v.error <= v.tolerance;
-                         v.details = std::to_string(r.crack_triangles) + " crack triangles in a 192-triangle cube of side 10a: max " +
-                                     "rel. COD error (r < 0.8a) " + fmt(r.max_opening_error) + ", centre " +
-                                     fmt(r.centre_opening_error);
-                         return v;
-                     }});
+                     "rings; cube side 10a; plain P1, the thesis' method)", penny_crack_convergence_displacement_correlation});
+    cases.push_back({"penny_crack_opening", "penny crack opening vs. Sneddon, r < 0.8 a (case 5)", penny_crack_opening});
     cases.push_back({"elliptical_crack_sif",
                      "Irwin's embedded elliptical crack (b/a = 0.5) under remote tension, K_I along the front from "
-                     "square-root front elements (issue 13)",
-                     [] {
-                         const EllipseRun r = run_elliptical_crack(7, 0.5, 40.0);
-                         VerificationResult v = result(r.max_node_error, 0.03,
-                                                       std::to_string(r.crack_triangles) +
-                                                           " crack triangles (7 rings scaled to b/a = 0.5), cube side 40a: worst "
-                                                           "front node K_I / Irwin - 1 = " + fmt(r.max_node_error) +
-                                                           ", front-average " + fmt(r.mean_ratio_error) + ", K_max / K_min " +
-                                                           fmt(r.k_ratio) + " (Irwin sqrt(a/b) = 1.414)");
-                         return v;
-                     }});
+                     "square-root front elements (issue 13)", elliptical_crack_sif});
     cases.push_back({"penny_crack_energy",
                      "penny crack: work of the remote load on the opening, 8 (1 - nu^2) sigma^2 a^3 / (3 E), square-root "
-                     "front elements (issue 13)",
-                     [] {
-                         const EnergyRun r = run_penny_energy(7, true, 40.0);
-                         const double err = std::abs(r.energy - r.exact) / r.exact;
-                         return result(err, 0.01, std::to_string(r.crack_triangles) + " crack triangles, cube side 40a: " +
-                                                      fmt(r.energy) + " vs " + fmt(r.exact) + ", relative error " + fmt(err));
-                     }});
+                     "front elements (issue 13)", penny_crack_energy});
     cases.push_back({"penny_crack_sif_displacement_correlation",
-                     "penny crack K_I by displacement correlation on plain P1 (case 5, sgbem-math §5; the thesis' method)", [] {
-                         const PennyRun r = run_penny_crack(7, 4);
-                         VerificationResult v;
-                         v.error = r.mean_KI_error;
-                         v.tolerance = 0.05;
-                         v.passed = r.mean_KI_error <= 0.05 && r.max_node_KI_error <= 0.10;
-                         v.details = std::to_string(r.crack_triangles) + " crack triangles: front-average K_I error " +
-                                     fmt(r.mean_KI_error) + " (bar 5%), worst front node " +
-                                     fmt(r.max_node_KI_error) + " (bar 10%)";
-                         return v;
-                     }});
+                     "penny crack K_I by displacement correlation on plain P1 (case 5, sgbem-math §5; the thesis' method)",
+                     penny_crack_sif_displacement_correlation});
     cases.push_back({"penny_crack_sif",
-                     "penny crack K_I from square-root crack-front elements (issue 13; case 5, sgbem-math §5)", [] {
-                         // Cube of side 20a: at 10a the finite body alone raises the opening by 0.8 %.
-                         const PennyRun r = run_penny_crack(7, 4, 1.0, true, 20.0);
-                         VerificationResult v;
-                         v.error = r.mean_KI_error;
-                         v.tolerance = 0.01;
-                         v.passed = r.mean_KI_error <= 0.01 && r.max_node_KI_error <= 0.03;
-                         v.details = std::to_string(r.crack_triangles) +
-                                     " crack triangles in a 192-triangle cube of side 20a: front-average K_I error " +
-                                     fmt(r.mean_KI_error) + " (bar 1%), worst front node " + fmt(r.max_node_KI_error) +
-                                     " (bar 3%), centre COD " + fmt(r.centre_opening_error);
-                         return v;
-                     }});
+                     "penny crack K_I from square-root crack-front elements (issue 13; case 5, sgbem-math §5)", penny_crack_sif});
 }
 
 }  // namespace cf

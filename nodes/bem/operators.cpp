@@ -166,21 +166,25 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
     return out;
 }
 
-std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
-                                                            const std::shared_ptr<const CrackOperators>& previous,
-                                                            const SurfaceMesh& cracks, double memory_budget_bytes) {
-    const std::size_t old_tris = previous ? previous->cracks.num_triangles() : 0;
-    const std::size_t old_verts = previous ? previous->cracks.num_vertices() : 0;
-    if (previous) {
-        const SurfaceMesh& pc = previous->cracks;
-        bool prefix = cracks.num_triangles() >= old_tris && cracks.num_vertices() >= old_verts;
-        for (std::size_t t = 0; prefix && t < old_tris; ++t) prefix = cracks.triangles[t] == pc.triangles[t];
-        for (std::size_t v = 0; prefix && v < old_verts; ++v) prefix = cracks.vertices[v] == pc.vertices[v];
-        if (!prefix)
-            throw std::invalid_argument("crack mesh does not extend the previously assembled one (" + std::to_string(old_tris) +
-                                        " triangles, " + std::to_string(old_verts) +
-                                        " vertices must stay unchanged at the front); crack elements can only be appended");
-    }
+namespace {
+
+// append_crack_elements' steps, in the order it calls them.
+
+// The crack mesh must extend the previously assembled one: old triangles and vertices unchanged.
+void check_appended(const CrackOperators* previous, const SurfaceMesh& cracks) {
+    if (!previous) return;
+    const SurfaceMesh& pc = previous->cracks;
+    const std::size_t old_tris = pc.num_triangles(), old_verts = pc.num_vertices();
+    bool prefix = cracks.num_triangles() >= old_tris && cracks.num_vertices() >= old_verts;
+    for (std::size_t t = 0; prefix && t < old_tris; ++t) prefix = cracks.triangles[t] == pc.triangles[t];
+    for (std::size_t v = 0; prefix && v < old_verts; ++v) prefix = cracks.vertices[v] == pc.vertices[v];
+    if (!prefix)
+        throw std::invalid_argument("crack mesh does not extend the previously assembled one (" + std::to_string(old_tris) +
+                                    " triangles, " + std::to_string(old_verts) +
+                                    " vertices must stay unchanged at the front); crack elements can only be appended");
+}
+
+void check_crack_budget(const SurfaceOperators& surface, const SurfaceMesh& cracks, double memory_budget_bytes) {
     try {
         check_memory_budget(crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), cracks.num_vertices()),
                             memory_budget_bytes >= 0 ? memory_budget_bytes : surface.options.memory_budget_bytes,
@@ -190,6 +194,79 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
                                     "; or keep the crack blocks from growing: assemble.sgbem method: hybrid (with switch_elements "
                                     "below this size) or method: estimator (thesis ch. 5)");
     }
+}
+
+// The geometry of the crack elements from old_tris on, appended to `geometry`.
+void append_crack_geometry(const SurfaceMesh& cracks, std::size_t old_tris, std::vector<ElementGeometry>& geometry) {
+    for (std::size_t t = old_tris; t < cracks.num_triangles(); ++t) {
+        try {
+            geometry.push_back(element_geometry(cracks, t));
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string("crack mesh (crack '") + cracks.region_name(cracks.region_of(t)) +
+                                        "'): " + e.what());
+        }
+    }
+}
+
+// m at its new size (rows x cols) with the old block in its top-left corner and zeros elsewhere.
+void grow_block(Matrix& m, const Matrix* old, Eigen::Index rows, Eigen::Index cols, Eigen::Index old_rows,
+                Eigen::Index old_cols) {
+    m.resize(rows, cols);
+    if (old && old_rows > 0 && old_cols > 0) m.topLeftCorner(old_rows, old_cols) = *old;
+    m.rightCols(cols - old_cols).setZero();
+    m.bottomRows(rows - old_rows).setZero();
+}
+
+// The integrals of one new crack element b against every surface element (W, X) and against
+// the crack elements up to b (HY's upper part). Task b owns the columns nodes(b) of W, X and HY,
+// so tasks of one colour run in parallel.
+class CrackElementColumns {
+public:
+    CrackElementColumns(const SurfaceOperators& surface, CrackOperators& out)
+        : gs_(surface.geometry), gc_(out.geometry), quad_(surface.options.quadrature), ec_(surface.elastic), W_(out.W),
+          X_(out.X), HY_(out.HY) {}
+
+    void operator()(int b) const {
+        const ElementGeometry& gb = gc_[b];
+        PairBlocks blk;
+        for (std::size_t a = 0; a < gs_.size(); ++a) {
+            const ElementGeometry& ga = gs_[a];
+            const PairIntegrals p = pair_integrals(ga, gb, false, quad_);
+            pair_blocks(ga, gb, p, ec_, false, blk);
+            for (int be = 0; be < 3; ++be) {
+                add_block(W_, 3 * static_cast<Eigen::Index>(a), 3 * gb.nodes[be], blk.Kb[be]);
+                for (int al = 0; al < 3; ++al) add_block(X_, 3 * ga.nodes[al], 3 * gb.nodes[be], blk.H[al][be]);
+            }
+        }
+        for (int a = 0; a <= b; ++a) {
+            const ElementGeometry& ga = gc_[a];
+            const PairIntegrals p = pair_integrals(ga, gb, true, quad_);
+            pair_blocks(ga, gb, p, ec_, false, blk);
+            const double half = (a == b) ? 0.5 : 1.0;
+            for (int al = 0; al < 3; ++al)
+                for (int be = 0; be < 3; ++be) add_block(HY_, 3 * ga.nodes[al], 3 * gb.nodes[be], half * blk.H[al][be]);
+        }
+    }
+
+private:
+    const std::vector<ElementGeometry>& gs_;
+    const std::vector<ElementGeometry>& gc_;
+    const PairQuadrature quad_;
+    const ElasticConstants ec_;
+    Matrix& W_;
+    Matrix& X_;
+    Matrix& HY_;
+};
+
+}  // namespace
+
+std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
+                                                            const std::shared_ptr<const CrackOperators>& previous,
+                                                            const SurfaceMesh& cracks, double memory_budget_bytes) {
+    const std::size_t old_tris = previous ? previous->cracks.num_triangles() : 0;
+    const std::size_t old_verts = previous ? previous->cracks.num_vertices() : 0;
+    check_appended(previous.get(), cracks);
+    check_crack_budget(surface, cracks, memory_budget_bytes);
     // Copy-on-write without copying twice: the small members are copied, the dense blocks are
     // allocated at their new size and the previous blocks copied into them (peak: old + new).
     auto out = std::make_shared<CrackOperators>();
@@ -198,58 +275,18 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
         out->pairs_computed = previous->pairs_computed;
     }
     out->cracks = cracks;
-    for (std::size_t t = old_tris; t < cracks.num_triangles(); ++t) {
-        try {
-            out->geometry.push_back(element_geometry(cracks, t));
-        } catch (const std::invalid_argument& e) {
-            throw std::invalid_argument(std::string("crack mesh (crack '") + cracks.region_name(cracks.region_of(t)) +
-                                        "'): " + e.what());
-        }
-    }
+    append_crack_geometry(cracks, old_tris, out->geometry);
     check_crack_clear_of_surface(surface.geometry, out->geometry, old_tris, cracks);
     const Eigen::Index Ms = static_cast<Eigen::Index>(surface.geometry.size());
     const Eigen::Index Ns = static_cast<Eigen::Index>(surface.mesh.num_vertices());
     const Eigen::Index Nc = static_cast<Eigen::Index>(cracks.num_vertices()), Nc0 = static_cast<Eigen::Index>(old_verts);
-    auto grow = [&](Matrix& m, const Matrix* old, Eigen::Index rows, Eigen::Index cols, Eigen::Index old_rows, Eigen::Index old_cols) {
-        m.resize(rows, cols);
-        if (old && old_rows > 0 && old_cols > 0) m.topLeftCorner(old_rows, old_cols) = *old;
-        m.rightCols(cols - old_cols).setZero();
-        m.bottomRows(rows - old_rows).setZero();
-    };
-    grow(out->W, previous ? &previous->W : nullptr, 3 * Ms, 3 * Nc, 3 * Ms, 3 * Nc0);
-    grow(out->X, previous ? &previous->X : nullptr, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
-    grow(out->HY, previous ? &previous->HY : nullptr, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
-    const PairQuadrature quad(surface.options.quadrature);
-    const ElasticConstants ec = surface.elastic;
-    const auto& gs = surface.geometry;
-    const auto& gc = out->geometry;
-    Matrix& W = out->W;
-    Matrix& X = out->X;
-    Matrix& HY = out->HY;
-    // Task b (a new crack element) owns the columns nodes(b) of W, X and HY.
-    for_each_colour(colour_elements(gc, old_tris, gc.size()), [&](int b) {
-        const ElementGeometry& gb = gc[b];
-        PairBlocks blk;
-        for (Eigen::Index a = 0; a < Ms; ++a) {
-            const ElementGeometry& ga = gs[a];
-            const PairIntegrals p = pair_integrals(ga, gb, false, quad);
-            pair_blocks(ga, gb, p, ec, false, blk);
-            for (int be = 0; be < 3; ++be) {
-                add_block(W, 3 * a, 3 * gb.nodes[be], blk.Kb[be]);
-                for (int al = 0; al < 3; ++al) add_block(X, 3 * ga.nodes[al], 3 * gb.nodes[be], blk.H[al][be]);
-            }
-        }
-        for (int a = 0; a <= b; ++a) {
-            const ElementGeometry& ga = gc[a];
-            const PairIntegrals p = pair_integrals(ga, gb, true, quad);
-            pair_blocks(ga, gb, p, ec, false, blk);
-            const double half = (a == b) ? 0.5 : 1.0;
-            for (int al = 0; al < 3; ++al)
-                for (int be = 0; be < 3; ++be) add_block(HY, 3 * ga.nodes[al], 3 * gb.nodes[be], half * blk.H[al][be]);
-        }
-    });
+    grow_block(out->W, previous ? &previous->W : nullptr, 3 * Ms, 3 * Nc, 3 * Ms, 3 * Nc0);
+    grow_block(out->X, previous ? &previous->X : nullptr, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
+    grow_block(out->HY, previous ? &previous->HY : nullptr, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
+    for_each_colour(colour_elements(out->geometry, old_tris, out->geometry.size()), CrackElementColumns(surface, *out));
     std::int64_t added = 0;
-    for (std::size_t b = old_tris; b < gc.size(); ++b) added += static_cast<std::int64_t>(Ms) + static_cast<std::int64_t>(b) + 1;
+    for (std::size_t b = old_tris; b < out->geometry.size(); ++b)
+        added += static_cast<std::int64_t>(Ms) + static_cast<std::int64_t>(b) + 1;
     out->pairs_computed_last = added;
     out->pairs_computed += added;
     return out;

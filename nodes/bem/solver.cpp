@@ -167,6 +167,264 @@ Matrix coupling_c_times(const SurfaceSystem& sys, const CrackOperators& cr, cons
     return out;
 }
 
+// solve_sgbem's steps, in the order it calls them.
+
+// The boundary conditions must have been resolved on the operators' mesh.
+void check_conditions_mesh(const ResolvedConditions& bc, std::size_t M, std::size_t N) {
+    if (bc.dirichlet.size() != M || bc.node_fixed.size() != N)
+        throw std::invalid_argument("boundary conditions were resolved on a different mesh (" +
+                                    std::to_string(bc.dirichlet.size()) + " triangles, operators have " +
+                                    std::to_string(M) + ")");
+}
+
+// Pure Neumann: eq. (7.4) has a solution only for balanced loads; the resultants go into `sol`.
+void check_balance(const SurfaceOperators& o, const ResolvedConditions& bc, const SolveOptions& options, BemSolution& sol) {
+    load_resultants(o, bc.traction, sol.residual_force, sol.residual_torque);
+    const std::size_t M = o.geometry.size();
+    double fref = 0, L = (bounding_box(o.mesh).extent()).norm();
+    for (std::size_t a = 0; a < M; ++a) fref += o.geometry[a].area * bc.traction[a].norm();
+    if (fref > 0 && (sol.residual_force.norm() > options.balance_tolerance * fref ||
+                     sol.residual_torque.norm() > options.balance_tolerance * fref * L)) {
+        std::ostringstream os;
+        os.precision(4);
+        os << "pure Neumann loads are not balanced: net force " << sol.residual_force.transpose() << " N and torque "
+           << sol.residual_torque.transpose() << " N m (relative " << sol.residual_force.norm() / fref << " and "
+           << sol.residual_torque.norm() / (fref * L) << ", tolerance " << options.balance_tolerance
+           << "); fix the tractions so they sum to zero, or hold a region with a displacement condition";
+        throw std::invalid_argument(os.str());
+    }
+}
+
+// Surface factorisation: reuse when operators and partition are the same.
+void choose_surface_system(const std::shared_ptr<const SurfaceOperators>& surface, const ResolvedConditions& bc,
+                           const BemSolution* previous, const std::shared_ptr<const SurfaceSystem>& surface_factor,
+                           BemSolution& sol) {
+    if (previous && previous->system && previous->system->ops == surface && previous->system->dirichlet == bc.dirichlet) {
+        sol.system = previous->system;
+        sol.reused_surface_factor = true;
+    } else if (surface_factor && surface_factor->ops == surface && surface_factor->dirichlet == bc.dirichlet) {
+        sol.system = surface_factor;
+        sol.reused_surface_factor = true;
+    } else {
+        sol.system = factor_surface(surface, bc);
+    }
+}
+
+// Known data: g~ (P1, on closure of Gamma_D) and f~ (P0, on Gamma_N).
+struct KnownData {
+    Vector g, f;
+};
+
+KnownData known_data(const ResolvedConditions& bc, std::size_t M, std::size_t N) {
+    KnownData k{Vector::Zero(3 * N), Vector::Zero(3 * M)};
+    for (std::size_t v = 0; v < N; ++v) k.g.segment<3>(3 * v) = bc.displacement[v];
+    for (std::size_t a = 0; a < M; ++a) k.f.segment<3>(3 * a) = bc.traction[a];
+    return k;
+}
+
+// Right-hand sides of eq. (2.27) / (7.4).
+Vector surface_rhs(const SurfaceOperators& o, const SurfaceSystem& sys, const KnownData& known) {
+    const Vector& g = known.g;
+    const Vector& f = known.f;
+    Vector rhs;
+    if (sys.pure_neumann) {
+        const Vector fN = 0.5 * mass_transpose_times_elemental(o, f) - o.K.transpose() * f;
+        rhs = o.D.transpose() * fN;
+    } else {
+        Vector r1 = 0.5 * mass_times_nodal(o, g) + o.K * g;
+        if (o.V.size()) r1 -= o.V * f;
+        const Vector r2 = 0.5 * mass_transpose_times_elemental(o, f) - o.K.transpose() * f - o.D * g;
+        rhs.resize(sys.size());
+        const auto idxD = dofs3(sys.d_elements);
+        const auto idxN = dofs3(sys.n_nodes);
+        // Plain copies (not r1(idxD)): GCC 12 warns about Eigen's indexed view here (-Wfree-nonheap-object).
+        for (std::size_t i = 0; i < idxD.size(); ++i) rhs[static_cast<Eigen::Index>(i)] = r1[idxD[i]];
+        const Eigen::Index nd = static_cast<Eigen::Index>(idxD.size());
+        for (std::size_t i = 0; i < idxN.size(); ++i) rhs[nd + static_cast<Eigen::Index>(i)] = r2[idxN[i]];
+    }
+    return rhs;
+}
+
+// Estimated openings du on the right-hand side (eq. 4.2, first row): A s = f - B w with w = -du.
+void add_estimated_growth(const SurfaceOperators& o, const SurfaceSystem& sys, const EstimatedGrowth& eg, Vector& rhs) {
+    const std::size_t M = o.geometry.size(), N = o.mesh.num_vertices();
+    if (eg.k_opening.size() != 3 * static_cast<Eigen::Index>(M) || eg.d_opening.size() != 3 * static_cast<Eigen::Index>(N))
+        throw std::invalid_argument("estimated crack growth was integrated against a different surface mesh");
+    if (sys.pure_neumann) {
+        rhs += o.D.transpose() * eg.d_opening;  // through the normal equations of eq. (7.4)
+    } else {
+        const auto idxD = dofs3(sys.d_elements);
+        const auto idxN = dofs3(sys.n_nodes);
+        rhs.head(idxD.size()) -= eg.k_opening(idxD);
+        rhs.tail(idxN.size()) += eg.d_opening(idxN);
+    }
+}
+
+// Whether the previous step's Schur factor can be extended by rows for the new crack nodes: same
+// surface factor, no square-root front elements (they change the basis of every node near the
+// front each step), and no old unknown whose node left the interior or whose support changed.
+bool can_extend_schur(const CrackOperators& cr, const BemSolution* previous, const BemSolution& sol,
+                      const std::vector<char>& interior, const SolveOptions& options) {
+    const CrackSchur* old = previous ? previous->schur.get() : nullptr;
+    bool extend = options.extend_schur && !cr.tip_elements && old && previous->system == sol.system && previous->cracks &&
+                  !previous->cracks->tip_elements && old->crack_triangles <= cr.cracks.num_triangles();
+    if (extend) {
+        std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
+        for (int v : old->dof_nodes) {
+            if (v >= static_cast<int>(interior.size()) || !interior[v]) extend = false;
+            else was_dof[v] = 1;
+        }
+        for (std::size_t t = old->crack_triangles; extend && t < cr.cracks.num_triangles(); ++t)
+            for (int v : cr.cracks.triangles[t])
+                if (was_dof[v]) extend = false;  // the support of an old unknown changed
+    }
+    return extend;
+}
+
+// The old Schur factor (eq. 4.3) extended by the rows of the interior nodes that were no unknown
+// before: a block Cholesky update, the old rows untouched.
+void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const CrackSchur& old,
+                  const std::vector<char>& interior, CrackSchur& schur, BemSolution& sol) {
+    std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
+    for (int v : old.dof_nodes) was_dof[v] = 1;
+    std::vector<int> fresh;
+    for (std::size_t v = 0; v < interior.size(); ++v)
+        if (interior[v] && !was_dof[v]) fresh.push_back(static_cast<int>(v));
+    schur.dof_nodes = old.dof_nodes;
+    schur.dof_nodes.insert(schur.dof_nodes.end(), fresh.begin(), fresh.end());
+    if (fresh.empty()) {
+        // No new unknown (the new triangles only touch front nodes): the old factor stands
+        // (and Eigen's triangular solve must not see zero columns).
+        schur.Z = old.Z;
+        schur.L = old.L;
+        sol.extended_schur = true;
+        sol.schur_rows_added = 0;
+        return;
+    }
+    const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old.dof_nodes.size());
+    const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
+    const CrackCoupling cn = coupling(sys, cr, fresh);
+    const Matrix Zn = solve_matrix(sys, cn.B);
+    const auto io = dofs3(old.dof_nodes), in = dofs3(fresh);
+    Matrix Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old.dof_nodes, Zn);
+    const Matrix Sno = y_block(cr, in, io) - cn.C * old.Z;
+    Son = 0.5 * (Son + Sno.transpose());
+    Matrix Snn = y_block(cr, in, in) - cn.C * Zn;
+    Snn = 0.5 * (Snn + Snn.transpose()).eval();
+    const Matrix LnoT = old.L.triangularView<Eigen::Lower>().solve(Son);
+    Snn.noalias() -= LnoT.transpose() * LnoT;
+    Eigen::LLT<Matrix> lnn(Snn);
+    require(lnn.info() == Eigen::Success, "crack Schur complement (eq. 4.3) lost positive definiteness on extension");
+    schur.Z.resize(sys.size(), ko + kn);
+    schur.Z << old.Z, Zn;
+    schur.L = Matrix::Zero(ko + kn, ko + kn);
+    schur.L.topLeftCorner(ko, ko) = old.L;
+    schur.L.bottomLeftCorner(kn, ko) = LnoT.transpose();
+    schur.L.bottomRightCorner(kn, kn) = lnn.matrixL();
+    sol.extended_schur = true;
+    sol.schur_rows_added = static_cast<std::size_t>(kn);
+}
+
+// The crack nodes that carry unknowns: the interior nodes, or with square-root front elements
+// every node of an element where rho is not identically 0.
+std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<char>& interior) {
+    std::vector<int> dof_nodes;
+    if (cr.tip_elements) {
+        std::vector<char> carries(interior.size(), 0);
+        for (const Tri& t : cr.cracks.triangles) {
+            const bool all_front = !interior[t[0]] && !interior[t[1]] && !interior[t[2]];
+            if (!all_front)
+                for (int v : t) carries[v] = 1;
+        }
+        for (std::size_t v = 0; v < interior.size(); ++v)
+            if (carries[v]) dof_nodes.push_back(static_cast<int>(v));
+    } else {
+        for (std::size_t v = 0; v < interior.size(); ++v)
+            if (interior[v]) dof_nodes.push_back(static_cast<int>(v));
+    }
+    if (dof_nodes.empty())
+        throw std::invalid_argument("the crack mesh has no interior node, so it carries no opening unknown; every crack "
+                                    "needs at least one node off its front");
+    return dof_nodes;
+}
+
+// The Schur complement S = Y - C A^-1 B on the crack unknowns (eq. 4.3), factorised anew.
+void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<char>& interior,
+                  CrackSchur& schur, BemSolution& sol) {
+    schur.dof_nodes = crack_dof_nodes(cr, interior);
+    const CrackCoupling c = coupling(sys, cr, schur.dof_nodes);
+    schur.Z = solve_matrix(sys, c.B);
+    const auto ic = dofs3(schur.dof_nodes);
+    Matrix S = y_block(cr, ic, ic) - c.C * schur.Z;
+    S = 0.5 * (S + S.transpose()).eval();
+    Eigen::LLT<Matrix> llt(S);
+    require(llt.info() == Eigen::Success, "crack Schur complement (eq. 4.3) is not positive definite; check crack orientation");
+    schur.L = llt.matrixL();
+    sol.schur_rows_added = ic.size();
+}
+
+// Pressure on the crack faces as nodal loads, -p int psi_k n per node.
+Vector crack_face_loads(const CrackOperators& cr, const CrackLoads& loads) {
+    Vector load = Vector::Zero(3 * cr.cracks.num_vertices());
+    for (std::size_t e = 0; e < cr.geometry.size(); ++e) {
+        const int r = cr.cracks.region_of(e);
+        const double p = r < static_cast<int>(loads.pressure.size()) ? loads.pressure[r] : 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const double area = cr.tip_elements ? cr.basis_integral[e][k] : cr.geometry[e].area / 3;  // int psi_k
+            load.segment<3>(3 * cr.geometry[e].nodes[k]) -= p * area * cr.geometry[e].normal;
+        }
+    }
+    return load;
+}
+
+// Cracks: Schur complement on the crack unknowns (eq. 4.3), built or extended, then solved for the
+// openings; `s` (the surface solution) is corrected by -Z w. Returns the opening per crack node.
+std::vector<Vec3> solve_cracks(const SurfaceSystem& sys, const CrackOperators& cr, const CrackLoads& loads,
+                               const KnownData& known, const BemSolution* previous, const SolveOptions& options,
+                               Vector& s, BemSolution& sol) {
+    const std::vector<char> interior = crack_interior_nodes(cr.cracks);
+    auto schur = std::make_shared<CrackSchur>();
+    schur->crack_triangles = cr.cracks.num_triangles();
+    if (can_extend_schur(cr, previous, sol, interior, options)) extend_schur(sys, cr, *previous->schur, interior, *schur, sol);
+    else factor_schur(sys, cr, interior, *schur, sol);
+    // Right-hand side of the crack rows: face loads minus known surface data.
+    const auto ic = dofs3(schur->dof_nodes);
+    const Vector load = crack_face_loads(cr, loads);
+    Vector gc = load(ic) - cr.W(Eigen::all, ic).transpose() * known.f - cr.X(Eigen::all, ic).transpose() * known.g;
+    gc -= coupling_c_times(sys, cr, schur->dof_nodes, s);
+    Vector w = schur->L.triangularView<Eigen::Lower>().solve(gc);
+    schur->L.triangularView<Eigen::Lower>().transpose().solveInPlace(w);
+    s -= schur->Z * w;
+    std::vector<Vec3> cod(cr.cracks.num_vertices(), Vec3::Zero());
+    for (std::size_t k = 0; k < schur->dof_nodes.size(); ++k) cod[schur->dof_nodes[k]] = -w.segment<3>(3 * k);
+    if (cr.tip_elements) {
+        // Front nodes carry square-root coefficients, not openings: the opening there is 0.
+        sol.front_coefficient.assign(cod.size(), Vec3::Zero());
+        for (std::size_t v = 0; v < cod.size(); ++v)
+            if (!interior[v]) {
+                sol.front_coefficient[v] = cod[v];
+                cod[v] = Vec3::Zero();
+            }
+    }
+    sol.schur = schur;
+    return cod;
+}
+
+// Surface displacement and traction from the unknowns s: the given data where it was given.
+void write_surface_solution(const SurfaceSystem& sys, const ResolvedConditions& bc, const Vector& s, std::size_t N,
+                            BemSolution& sol) {
+    sol.displacement.assign(N, Vec3::Zero());
+    sol.traction = bc.traction;
+    if (sys.pure_neumann) {
+        for (std::size_t v = 0; v < N; ++v) sol.displacement[v] = s.segment<3>(3 * v);
+    } else {
+        for (std::size_t v = 0; v < N; ++v) sol.displacement[v] = bc.displacement[v];
+        for (std::size_t k = 0; k < sys.d_elements.size(); ++k) sol.traction[sys.d_elements[k]] = s.segment<3>(3 * k);
+        const std::size_t off = 3 * sys.d_elements.size();
+        for (std::size_t k = 0; k < sys.n_nodes.size(); ++k) sol.displacement[sys.n_nodes[k]] = s.segment<3>(off + 3 * k);
+    }
+}
+
 }  // namespace
 
 Eigen::Index SurfaceSystem::size() const {
@@ -220,202 +478,27 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
                                                const std::shared_ptr<const SurfaceSystem>& surface_factor) {
     const SurfaceOperators& o = *surface;
     const std::size_t M = o.geometry.size(), N = o.mesh.num_vertices();
-    if (bc.dirichlet.size() != M || bc.node_fixed.size() != N)
-        throw std::invalid_argument("boundary conditions were resolved on a different mesh (" +
-                                    std::to_string(bc.dirichlet.size()) + " triangles, operators have " +
-                                    std::to_string(M) + ")");
+    check_conditions_mesh(bc, M, N);
     auto sol = std::make_shared<BemSolution>();
     sol->surface = surface;
     sol->cracks = cracks;
-    if (bc.pure_neumann()) {
-        load_resultants(o, bc.traction, sol->residual_force, sol->residual_torque);
-        double fref = 0, L = (bounding_box(o.mesh).extent()).norm();
-        for (std::size_t a = 0; a < M; ++a) fref += o.geometry[a].area * bc.traction[a].norm();
-        if (fref > 0 && (sol->residual_force.norm() > options.balance_tolerance * fref ||
-                         sol->residual_torque.norm() > options.balance_tolerance * fref * L)) {
-            std::ostringstream os;
-            os.precision(4);
-            os << "pure Neumann loads are not balanced: net force " << sol->residual_force.transpose() << " N and torque "
-               << sol->residual_torque.transpose() << " N m (relative " << sol->residual_force.norm() / fref << " and "
-               << sol->residual_torque.norm() / (fref * L) << ", tolerance " << options.balance_tolerance
-               << "); fix the tractions so they sum to zero, or hold a region with a displacement condition";
-            throw std::invalid_argument(os.str());
-        }
-    }
-    // Surface factorisation: reuse when operators and partition are the same.
-    if (previous && previous->system && previous->system->ops == surface && previous->system->dirichlet == bc.dirichlet) {
-        sol->system = previous->system;
-        sol->reused_surface_factor = true;
-    } else if (surface_factor && surface_factor->ops == surface && surface_factor->dirichlet == bc.dirichlet) {
-        sol->system = surface_factor;
-        sol->reused_surface_factor = true;
-    } else {
-        sol->system = factor_surface(surface, bc);
-    }
+    // 1. Pure Neumann: balanced loads. 2. The surface factorisation, reused where possible.
+    if (bc.pure_neumann()) check_balance(o, bc, options, *sol);
+    choose_surface_system(surface, bc, previous, surface_factor, *sol);
     const SurfaceSystem& sys = *sol->system;
-    // Known data: g~ (P1, on closure of Gamma_D) and f~ (P0, on Gamma_N).
-    Vector g = Vector::Zero(3 * N), f = Vector::Zero(3 * M);
-    for (std::size_t v = 0; v < N; ++v) g.segment<3>(3 * v) = bc.displacement[v];
-    for (std::size_t a = 0; a < M; ++a) f.segment<3>(3 * a) = bc.traction[a];
-    // Right-hand sides of eq. (2.27) / (7.4).
-    Vector rhs;
-    if (sys.pure_neumann) {
-        const Vector fN = 0.5 * mass_transpose_times_elemental(o, f) - o.K.transpose() * f;
-        rhs = o.D.transpose() * fN;
-    } else {
-        Vector r1 = 0.5 * mass_times_nodal(o, g) + o.K * g;
-        if (o.V.size()) r1 -= o.V * f;
-        const Vector r2 = 0.5 * mass_transpose_times_elemental(o, f) - o.K.transpose() * f - o.D * g;
-        rhs.resize(sys.size());
-        const auto idxD = dofs3(sys.d_elements);
-        const auto idxN = dofs3(sys.n_nodes);
-        rhs.head(idxD.size()) = r1(idxD);
-        rhs.tail(idxN.size()) = r2(idxN);
-    }
+    // 3. Right-hand side, with estimated growth (ch. 5.2) if any, and the surface solve.
+    const KnownData known = known_data(bc, M, N);
+    Vector rhs = surface_rhs(o, sys, known);
     if (estimated) {
-        // Estimated openings du on the right-hand side (eq. 4.2, first row): A s = f - B w with w = -du.
-        const EstimatedGrowth& eg = *estimated;
-        if (eg.k_opening.size() != 3 * static_cast<Eigen::Index>(M) || eg.d_opening.size() != 3 * static_cast<Eigen::Index>(N))
-            throw std::invalid_argument("estimated crack growth was integrated against a different surface mesh");
-        if (sys.pure_neumann) {
-            rhs += o.D.transpose() * eg.d_opening;  // through the normal equations of eq. (7.4)
-        } else {
-            const auto idxD = dofs3(sys.d_elements);
-            const auto idxN = dofs3(sys.n_nodes);
-            rhs.head(idxD.size()) -= eg.k_opening(idxD);
-            rhs.tail(idxN.size()) += eg.d_opening(idxN);
-        }
+        add_estimated_growth(o, sys, *estimated, rhs);
         sol->estimated = estimated;
     }
     Vector s = sys.solve(rhs);
-    // Cracks: Schur complement on interior crack nodes (eq. 4.3).
+    // 4. Crack openings by the Schur complement (eq. 4.3), correcting s. 5. Surface fields.
     std::vector<Vec3> cod;
-    if (cracks && cracks->cracks.num_triangles() > 0) {
-        const CrackOperators& cr = *cracks;
-        const std::vector<char> interior = crack_interior_nodes(cr.cracks);
-        auto schur = std::make_shared<CrackSchur>();
-        schur->crack_triangles = cr.cracks.num_triangles();
-        const CrackSchur* old = previous ? previous->schur.get() : nullptr;
-        // Square-root front elements change the basis of every node near the front each step: no extension.
-        bool extend = options.extend_schur && !cr.tip_elements && old && previous->system == sol->system && previous->cracks &&
-                      !previous->cracks->tip_elements && old->crack_triangles <= cr.cracks.num_triangles();
-        if (extend) {
-            std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
-            for (int v : old->dof_nodes) {
-                if (v >= static_cast<int>(interior.size()) || !interior[v]) extend = false;
-                else was_dof[v] = 1;
-            }
-            for (std::size_t t = old->crack_triangles; extend && t < cr.cracks.num_triangles(); ++t)
-                for (int v : cr.cracks.triangles[t])
-                    if (was_dof[v]) extend = false;  // the support of an old unknown changed
-        }
-        if (extend) {
-            std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
-            for (int v : old->dof_nodes) was_dof[v] = 1;
-            std::vector<int> fresh;
-            for (std::size_t v = 0; v < interior.size(); ++v)
-                if (interior[v] && !was_dof[v]) fresh.push_back(static_cast<int>(v));
-            schur->dof_nodes = old->dof_nodes;
-            schur->dof_nodes.insert(schur->dof_nodes.end(), fresh.begin(), fresh.end());
-            if (fresh.empty()) {
-                // No new unknown (the new triangles only touch front nodes): the old factor stands
-                // (and Eigen's triangular solve must not see zero columns).
-                schur->Z = old->Z;
-                schur->L = old->L;
-                sol->extended_schur = true;
-                sol->schur_rows_added = 0;
-            } else {
-                const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old->dof_nodes.size());
-                const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
-                const CrackCoupling cn = coupling(sys, cr, fresh);
-                const Matrix Zn = solve_matrix(sys, cn.B);
-                const auto io = dofs3(old->dof_nodes), in = dofs3(fresh);
-                Matrix Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old->dof_nodes, Zn);
-                const Matrix Sno = y_block(cr, in, io) - cn.C * old->Z;
-                Son = 0.5 * (Son + Sno.transpose());
-                Matrix Snn = y_block(cr, in, in) - cn.C * Zn;
-                Snn = 0.5 * (Snn + Snn.transpose()).eval();
-                const Matrix LnoT = old->L.triangularView<Eigen::Lower>().solve(Son);
-                Snn.noalias() -= LnoT.transpose() * LnoT;
-                Eigen::LLT<Matrix> lnn(Snn);
-                require(lnn.info() == Eigen::Success, "crack Schur complement (eq. 4.3) lost positive definiteness on extension");
-                schur->Z.resize(sys.size(), ko + kn);
-                schur->Z << old->Z, Zn;
-                schur->L = Matrix::Zero(ko + kn, ko + kn);
-                schur->L.topLeftCorner(ko, ko) = old->L;
-                schur->L.bottomLeftCorner(kn, ko) = LnoT.transpose();
-                schur->L.bottomRightCorner(kn, kn) = lnn.matrixL();
-                sol->extended_schur = true;
-                sol->schur_rows_added = static_cast<std::size_t>(kn);
-            }
-        } else {
-            if (cr.tip_elements) {
-                // Every node of an element where rho is not identically 0 carries a basis function.
-                std::vector<char> carries(interior.size(), 0);
-                for (const Tri& t : cr.cracks.triangles) {
-                    const bool all_front = !interior[t[0]] && !interior[t[1]] && !interior[t[2]];
-                    if (!all_front)
-                        for (int v : t) carries[v] = 1;
-                }
-                for (std::size_t v = 0; v < interior.size(); ++v)
-                    if (carries[v]) schur->dof_nodes.push_back(static_cast<int>(v));
-            } else {
-                for (std::size_t v = 0; v < interior.size(); ++v)
-                    if (interior[v]) schur->dof_nodes.push_back(static_cast<int>(v));
-            }
-            if (schur->dof_nodes.empty())
-                throw std::invalid_argument("the crack mesh has no interior node, so it carries no opening unknown; every crack "
-                                            "needs at least one node off its front");
-            const CrackCoupling c = coupling(sys, cr, schur->dof_nodes);
-            schur->Z = solve_matrix(sys, c.B);
-            const auto ic = dofs3(schur->dof_nodes);
-            Matrix S = y_block(cr, ic, ic) - c.C * schur->Z;
-            S = 0.5 * (S + S.transpose()).eval();
-            Eigen::LLT<Matrix> llt(S);
-            require(llt.info() == Eigen::Success, "crack Schur complement (eq. 4.3) is not positive definite; check crack orientation");
-            schur->L = llt.matrixL();
-            sol->schur_rows_added = ic.size();
-        }
-        // Right-hand side of the crack rows: face loads minus known surface data.
-        const auto ic = dofs3(schur->dof_nodes);
-        Vector load = Vector::Zero(3 * cr.cracks.num_vertices());
-        for (std::size_t e = 0; e < cr.geometry.size(); ++e) {
-            const int r = cr.cracks.region_of(e);
-            const double p = r < static_cast<int>(loads.pressure.size()) ? loads.pressure[r] : 0.0;
-            for (int k = 0; k < 3; ++k) {
-                const double area = cr.tip_elements ? cr.basis_integral[e][k] : cr.geometry[e].area / 3;  // int psi_k
-                load.segment<3>(3 * cr.geometry[e].nodes[k]) -= p * area * cr.geometry[e].normal;
-            }
-        }
-        Vector gc = load(ic) - cr.W(Eigen::all, ic).transpose() * f - cr.X(Eigen::all, ic).transpose() * g;
-        gc -= coupling_c_times(sys, cr, schur->dof_nodes, s);
-        Vector w = schur->L.triangularView<Eigen::Lower>().solve(gc);
-        schur->L.triangularView<Eigen::Lower>().transpose().solveInPlace(w);
-        s -= schur->Z * w;
-        cod.assign(cr.cracks.num_vertices(), Vec3::Zero());
-        for (std::size_t k = 0; k < schur->dof_nodes.size(); ++k) cod[schur->dof_nodes[k]] = -w.segment<3>(3 * k);
-        if (cr.tip_elements) {
-            // Front nodes carry square-root coefficients, not openings: the opening there is 0.
-            sol->front_coefficient.assign(cod.size(), Vec3::Zero());
-            for (std::size_t v = 0; v < cod.size(); ++v)
-                if (!interior[v]) {
-                    sol->front_coefficient[v] = cod[v];
-                    cod[v] = Vec3::Zero();
-                }
-        }
-        sol->schur = schur;
-    }
+    if (cracks && cracks->cracks.num_triangles() > 0) cod = solve_cracks(sys, *cracks, loads, known, previous, options, s, *sol);
     sol->crack_opening = std::move(cod);
-    sol->displacement.assign(N, Vec3::Zero());
-    sol->traction = bc.traction;
-    if (sys.pure_neumann) {
-        for (std::size_t v = 0; v < N; ++v) sol->displacement[v] = s.segment<3>(3 * v);
-    } else {
-        for (std::size_t v = 0; v < N; ++v) sol->displacement[v] = bc.displacement[v];
-        for (std::size_t k = 0; k < sys.d_elements.size(); ++k) sol->traction[sys.d_elements[k]] = s.segment<3>(3 * k);
-        const std::size_t off = 3 * sys.d_elements.size();
-        for (std::size_t k = 0; k < sys.n_nodes.size(); ++k) sol->displacement[sys.n_nodes[k]] = s.segment<3>(off + 3 * k);
-    }
+    write_surface_solution(sys, bc, s, N, *sol);
     return sol;
 }
 

@@ -283,6 +283,97 @@ double tip_pair_scalar(const ElementGeometry& a, const TipElementKind& ka, int f
     return s.S1[fa][fb];
 }
 
+namespace {
+
+// tip_crack_operators' steps, in the order it calls them.
+
+// Re-integrates every pair of one element b touching the front: square-root blocks in, P1
+// blocks out. Task b owns the columns nodes(b) of W, X and HY, so the tasks of one colour run in
+// parallel; a pair of two touched elements is the later one's.
+class TipColumns {
+public:
+    TipColumns(const SurfaceOperators& surface, const TipBasis& basis, const std::vector<char>& is_touched,
+               const TipRules& rules, const PairQuadrature& quad, CrackOperators& out)
+        : gs_(surface.geometry), gc_(out.geometry), basis_(basis), is_touched_(is_touched), rules_(rules), quad_(quad),
+          ec_(surface.elastic), W_(out.W), X_(out.X), HY_(out.HY) {}
+
+    void operator()(int b) const {
+        const ElementGeometry& gb = gc_[b];
+        PairBlocks blk;
+        TipPairBlocks tip;
+        for (std::size_t a = 0; a < gs_.size(); ++a) {
+            const PairIntegrals p = pair_integrals(gs_[a], gb, false, quad_);
+            pair_blocks(gs_[a], gb, p, ec_, false, blk);
+            tip_pair_blocks_with(gs_[a], plain_, gb, basis_.kind[b], false, rules_, ec_, true, tip);
+            for (int be = 0; be < 3; ++be) {
+                W_.block<3, 3>(3 * a, 3 * gb.nodes[be]) += tip.Kb[be] - blk.Kb[be];
+                for (int al = 0; al < 3; ++al)
+                    X_.block<3, 3>(3 * gs_[a].nodes[al], 3 * gb.nodes[be]) += tip.H[al][be] - blk.H[al][be];
+            }
+        }
+        for (std::size_t ai = 0; ai < gc_.size(); ++ai) {
+            const int a = static_cast<int>(ai);
+            if (is_touched_[a] && a > b) continue;  // that pair is task a's
+            const int lo = std::min(a, b), hi = std::max(a, b);
+            const PairIntegrals p = pair_integrals(gc_[lo], gc_[hi], true, quad_);
+            pair_blocks(gc_[lo], gc_[hi], p, ec_, false, blk);
+            tip_pair_blocks_with(gc_[lo], basis_.kind[lo], gc_[hi], basis_.kind[hi], true, rules_, ec_, false, tip);
+            const double half = a == b ? 0.5 : 1.0;
+            for (int al = 0; al < 3; ++al)
+                for (int be = 0; be < 3; ++be) {
+                    const Mat3 d = half * (tip.H[al][be] - blk.H[al][be]);
+                    if (a == lo) HY_.block<3, 3>(3 * gc_[lo].nodes[al], 3 * gc_[hi].nodes[be]) += d;
+                    else HY_.block<3, 3>(3 * gc_[hi].nodes[be], 3 * gc_[lo].nodes[al]) += d.transpose();
+                }
+        }
+    }
+
+private:
+    const std::vector<ElementGeometry>& gs_;
+    const std::vector<ElementGeometry>& gc_;
+    const TipBasis& basis_;
+    const std::vector<char>& is_touched_;
+    const TipRules& rules_;
+    const PairQuadrature& quad_;
+    const ElasticConstants ec_;
+    const TipElementKind plain_;
+    Matrix& W_;
+    Matrix& X_;
+    Matrix& HY_;
+};
+
+// The pairs TipColumns integrates: every surface element, and the crack elements not left to a
+// later touched element.
+std::int64_t tip_pair_count(const std::vector<int>& touched, const std::vector<char>& is_touched, std::size_t surface_elements) {
+    std::int64_t pairs = 0;
+    for (int b : touched) {
+        pairs += static_cast<std::int64_t>(surface_elements);
+        for (std::size_t a = 0; a < is_touched.size(); ++a)
+            if (!(is_touched[a] && static_cast<int>(a) > b)) ++pairs;
+    }
+    return pairs;
+}
+
+// int psi_a per element (face loads): a third of the area on plain elements, a collapsed Gauss
+// rule on the others.
+std::vector<std::array<double, 3>> basis_integrals(const std::vector<ElementGeometry>& gc, const TipBasis& basis) {
+    const TriangleRule tr = collapsed_gauss_triangle_rule(8, true);
+    std::vector<std::array<double, 3>> out(gc.size(), {0, 0, 0});
+    for (std::size_t e = 0; e < gc.size(); ++e) {
+        if (basis.kind[e].type == TipElementKind::plain) {
+            out[e] = {gc[e].area / 3, gc[e].area / 3, gc[e].area / 3};
+            continue;
+        }
+        for (std::size_t q = 0; q < tr.size(); ++q) {
+            const TipPoint P = tip_point(gc[e], basis.kind[e], tr.s[q], tr.t[q]);
+            for (int i = 0; i < 3; ++i) out[e][i] += tr.w[q] * P.psi[i] * 2 * gc[e].area;
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1) {
     // A second copy of the crack blocks beside the append-only P1 ones.
     check_memory_budget(2 * crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), p1.cracks.num_vertices()),
@@ -293,77 +384,22 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     out->tip_elements = true;
     const TipBasis basis = tip_basis(p1.cracks);
     const auto& gc = p1.geometry;
-    const auto& gs = surface.geometry;
     std::vector<int> touched;
     for (std::size_t e = 0; e < gc.size(); ++e)
         if (basis.kind[e].type != TipElementKind::plain) touched.push_back(static_cast<int>(e));
-    // Touching pairs: two more points per direction than the P1 rules (graded rules converge more slowly:
-    // n = 5 / 7 / 9 gave front-average K_I errors of 0.96 / 0.52 / 0.42 % on the 294-triangle penny crack).
-    const int n = surface.options.quadrature.singular_order + 2;
-    const TipRules rules(n);
-    const PairQuadrature quad(surface.options.quadrature);
-    const ElasticConstants ec = surface.elastic;
     std::vector<char> is_touched(gc.size(), 0);
     for (int e : touched) is_touched[e] = 1;
-    const TipElementKind plain;
-    Matrix& W = out->W;
-    Matrix& X = out->X;
-    Matrix& HY = out->HY;
-    // Task b (an element touching the front) owns the columns nodes(b) of W, X and HY.
+    // Touching pairs: two more points per direction than the P1 rules (graded rules converge more slowly:
+    // n = 5 / 7 / 9 gave front-average K_I errors of 0.96 / 0.52 / 0.42 % on the 294-triangle penny crack).
+    const TipRules rules(surface.options.quadrature.singular_order + 2);
+    const PairQuadrature quad(surface.options.quadrature);
+    const TipColumns columns(surface, basis, is_touched, rules, quad, *out);
     for (const auto& grp : colour_subset(gc, touched))
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grp.size(), 1), [&](const tbb::blocked_range<std::size_t>& rg) {
-            for (std::size_t gi = rg.begin(); gi != rg.end(); ++gi) {
-                const int b = grp[gi];
-                const ElementGeometry& gb = gc[b];
-                PairBlocks blk;
-                TipPairBlocks tip;
-                for (std::size_t a = 0; a < gs.size(); ++a) {
-                    const PairIntegrals p = pair_integrals(gs[a], gb, false, quad);
-                    pair_blocks(gs[a], gb, p, ec, false, blk);
-                    tip_pair_blocks_with(gs[a], plain, gb, basis.kind[b], false, rules, ec, true, tip);
-                    for (int be = 0; be < 3; ++be) {
-                        W.block<3, 3>(3 * a, 3 * gb.nodes[be]) += tip.Kb[be] - blk.Kb[be];
-                        for (int al = 0; al < 3; ++al)
-                            X.block<3, 3>(3 * gs[a].nodes[al], 3 * gb.nodes[be]) += tip.H[al][be] - blk.H[al][be];
-                    }
-                }
-                for (std::size_t ai = 0; ai < gc.size(); ++ai) {
-                    const int a = static_cast<int>(ai);
-                    if (is_touched[a] && a > b) continue;  // that pair is task a's
-                    const int lo = std::min(a, b), hi = std::max(a, b);
-                    const PairIntegrals p = pair_integrals(gc[lo], gc[hi], true, quad);
-                    pair_blocks(gc[lo], gc[hi], p, ec, false, blk);
-                    tip_pair_blocks_with(gc[lo], basis.kind[lo], gc[hi], basis.kind[hi], true, rules, ec, false, tip);
-                    const double half = a == b ? 0.5 : 1.0;
-                    for (int al = 0; al < 3; ++al)
-                        for (int be = 0; be < 3; ++be) {
-                            const Mat3 d = half * (tip.H[al][be] - blk.H[al][be]);
-                            if (a == lo) HY.block<3, 3>(3 * gc[lo].nodes[al], 3 * gc[hi].nodes[be]) += d;
-                            else HY.block<3, 3>(3 * gc[hi].nodes[be], 3 * gc[lo].nodes[al]) += d.transpose();
-                        }
-                }
-            }
+            for (std::size_t gi = rg.begin(); gi != rg.end(); ++gi) columns(grp[gi]);
         });
-    std::int64_t pairs = 0;
-    for (int b : touched) {
-        pairs += static_cast<std::int64_t>(gs.size());
-        for (std::size_t a = 0; a < gc.size(); ++a)
-            if (!(is_touched[a] && static_cast<int>(a) > b)) ++pairs;
-    }
-    out->tip_pairs_computed = pairs;
-    // int psi_a per element (face loads).
-    const TriangleRule tr = collapsed_gauss_triangle_rule(8, true);
-    out->basis_integral.assign(gc.size(), {0, 0, 0});
-    for (std::size_t e = 0; e < gc.size(); ++e) {
-        if (basis.kind[e].type == TipElementKind::plain) {
-            out->basis_integral[e] = {gc[e].area / 3, gc[e].area / 3, gc[e].area / 3};
-            continue;
-        }
-        for (std::size_t q = 0; q < tr.size(); ++q) {
-            const TipPoint P = tip_point(gc[e], basis.kind[e], tr.s[q], tr.t[q]);
-            for (int i = 0; i < 3; ++i) out->basis_integral[e][i] += tr.w[q] * P.psi[i] * 2 * gc[e].area;
-        }
-    }
+    out->tip_pairs_computed = tip_pair_count(touched, is_touched, surface.geometry.size());
+    out->basis_integral = basis_integrals(gc, basis);
     return out;
 }
 
