@@ -62,23 +62,9 @@ graph::NodeType fragments_node() {
     return t;
 }
 
-graph::NodeType export_fragments_node() {
-    graph::NodeType t("export.fragments",
-                      "Writes each fragment as a mesh (dual contouring of its grid at an adaptivity), all fragment "
-                      "grids into one .vdb (Houdini/Blender), and an exploded preview PNG (ch. 6.4, listing 2). "
-                      "The mesh files can be deformed (App. A items 23-25; the acceleration grid cell r_c is the BEM mesh's mean edge length): 'continuous' adds the BEM displacement "
-                      "interpolated linearly in the closest coarse triangle (nodal u on the ordinary surface, the "
-                      "crack's average displacement u_c on crack sheets); 'continuous_and_opening' also adds "
-                      "+-w [u] of every crack within half_width r_f, the face chosen by the recorded fine crack "
-                      "surface (w = 1/2 on the crack face, fading linearly to 0 at the band edge where the closest "
-                      "coarse point is on the ordinary surface); 'close_gaps' moves cut-face vertices onto the "
-                      "recorded crack surfaces, removing the sqrt(3) r_f gap of the thickened cracks. The .vdb "
-                      "grids and the preview stay undeformed.");
-    t.input<Fragments>("fragments", "from segment.fragments");
-    t.optional_input<bem::BemSolution>("solution", "from solve.sgbem; needed when 'displacement' is not none");
-    t.optional_input<CrackLevelSets>("cracks",
-                                     "the crack grids the fragments were cut with (same r_f, crack r = BEM crack "
-                                     "region r); needed for 'continuous_and_opening' and 'close_gaps'");
+// export.fragments' declaration and run, in steps.
+
+void declare_export_fragments_params(graph::NodeType& t) {
     t.param_bool("meshes", true, "write one mesh file per fragment");
     t.param_choice("format", "obj", {"obj", "ply", "stl", "off"}, "mesh file format");
     t.param_bool("binary", true, "binary PLY/STL (ignored for OBJ/OFF)");
@@ -104,76 +90,113 @@ graph::NodeType export_fragments_node() {
                   "preview: direction from the scene's centre to the camera (any length, not parallel to up)")
         .size(3);
     t.param_string("prefix", "fragment", "file name prefix");
+}
+
+// The file and preview options, checked.
+FragmentExportOptions export_options(graph::NodeContext& c) {
+    FragmentExportOptions o;
+    o.meshes = c.boolean("meshes");
+    o.format = mesh_format_from_name(c.string("format"));
+    o.binary = c.boolean("binary");
+    o.adaptivity = c.real("adaptivity");
+    o.vdb = c.boolean("vdb");
+    o.preview = c.boolean("preview");
+    o.preview_options.explode = c.real("explode");
+    o.preview_options.width = int(c.integer("width"));
+    o.preview_options.height = int(c.integer("height"));
+    o.preview_options.up = vec3_param(c, "up");
+    o.preview_options.view = vec3_param(c, "view");
+    if (const std::string problem = preview_camera_problem(o.preview_options); !problem.empty())
+        c.fail("parameter " + problem);
+    o.prefix = c.string("prefix");
+    if (o.prefix.empty() || o.prefix.find_first_of("/\\") != std::string::npos)
+        c.fail("parameter 'prefix': must be a non-empty file name without slashes");
+    return o;
+}
+
+// The deformation of the mesh files, checked against the inputs it needs.
+DeformationOptions deformation_options(graph::NodeContext& c) {
+    DeformationOptions d;
+    const std::string mode = c.string("displacement");
+    d.mode = displacement_mode_from_name(mode);
+    d.scale = c.real("displacement_scale");
+    d.remove_compressive_opening = c.boolean("remove_compressive_opening");
+    d.close_gaps = c.boolean("close_gaps");
+    if (d.mode != DisplacementMode::none && !c.has("solution"))
+        c.fail("parameter 'displacement' = " + mode + " needs the input 'solution' (connect solve.sgbem), or set "
+               "'displacement' to none");
+    if (d.mode == DisplacementMode::continuous_and_opening && !c.has("cracks"))
+        c.fail("parameter 'displacement' = continuous_and_opening needs the input 'cracks' (the crack grids the "
+               "fragments were cut with): the fine crack surfaces decide which face a vertex is on");
+    if (d.close_gaps && !c.has("cracks"))
+        c.fail("parameter 'close_gaps' = true needs the input 'cracks' (the crack grids the fragments were cut "
+               "with), or set 'close_gaps' to false");
+    return d;
+}
+
+void count_export(graph::NodeContext& c, const FragmentExportOptions& o, const FragmentExportResult& r) {
+    c.count("files", double(r.files.size()));
+    c.count("triangles", double(r.triangles));
+    if (o.deformation) {
+        c.count("vertices_on_crack_sheets", double(r.deformation.on_crack));
+        c.count("vertices_opened", double(r.deformation.opened));
+        c.count("vertices_closed", double(r.deformation.closed));
+        c.count("opening_sign_from_coarse_mesh", double(r.deformation.sign_from_coarse));
+        c.count("max_vertex_displacement_m", r.deformation.max_displacement);
+    }
+}
+
+void run_export_fragments(graph::NodeContext& c) {
+    FragmentExportOptions o = export_options(c);
+    const Fragments& fragments = c.in<Fragments>("fragments");
+    DeformationOptions d = deformation_options(c);
+    const CrackLevelSets* cracks = c.has("cracks") ? &c.in<CrackLevelSets>("cracks") : nullptr;
+    if (cracks) d.opening_band = cracks->half_width;
+    std::unique_ptr<FragmentDeformation> deformation;
+    FragmentExportResult r;
+    try {
+        if (o.meshes && (d.mode != DisplacementMode::none || d.close_gaps)) {  // only mesh files are deformed
+            std::shared_ptr<const CoarseDisplacement> coarse;
+            if (d.mode != DisplacementMode::none)
+                coarse = std::make_shared<const CoarseDisplacement>(
+                    coarse_displacement_from(c.in<bem::BemSolution>("solution"), true));
+            deformation = std::make_unique<FragmentDeformation>(coarse, cracks, fragments.voxel_size, d);
+            o.deformation = deformation.get();
+            c.count("compressive_opening_vertices", double(deformation->compressive_vertices()));
+        }
+        r = export_fragments(c.output_dir(), fragments, o);
+    } catch (const std::invalid_argument& e) {
+        c.fail(e.what());
+    }
+    count_export(c, o, r);
+    c.out("directory", c.output_dir().string());
+}
+
+graph::NodeType export_fragments_node() {
+    graph::NodeType t("export.fragments",
+                      "Writes each fragment as a mesh (dual contouring of its grid at an adaptivity), all fragment "
+                      "grids into one .vdb (Houdini/Blender), and an exploded preview PNG (ch. 6.4, listing 2). "
+                      "The mesh files can be deformed (App. A items 23-25; the acceleration grid cell r_c is the BEM mesh's mean edge length): 'continuous' adds the BEM displacement "
+                      "interpolated linearly in the closest coarse triangle (nodal u on the ordinary surface, the "
+                      "crack's average displacement u_c on crack sheets); 'continuous_and_opening' also adds "
+                      "+-w [u] of every crack within half_width r_f, the face chosen by the recorded fine crack "
+                      "surface (w = 1/2 on the crack face, fading linearly to 0 at the band edge where the closest "
+                      "coarse point is on the ordinary surface); 'close_gaps' moves cut-face vertices onto the "
+                      "recorded crack surfaces, removing the sqrt(3) r_f gap of the thickened cracks. The .vdb "
+                      "grids and the preview stay undeformed.");
+    t.input<Fragments>("fragments", "from segment.fragments");
+    t.optional_input<bem::BemSolution>("solution", "from solve.sgbem; needed when 'displacement' is not none");
+    t.optional_input<CrackLevelSets>("cracks",
+                                     "the crack grids the fragments were cut with (same r_f, crack r = BEM crack "
+                                     "region r); needed for 'continuous_and_opening' and 'close_gaps'");
+    declare_export_fragments_params(t);
     t.input_needed_when("solution", "displacement", {"continuous", "continuous_and_opening"},
                         "the BEM displacement that deforms the meshes");
     t.input_needed_when("cracks", "displacement", {"continuous_and_opening"},
                         "the fine crack surfaces decide which face of a crack a vertex is on");
     t.input_needed_when("cracks", "close_gaps", {"true"}, "cut-face vertices move onto the recorded crack surfaces");
     t.output<std::string>("directory", "the directory the files were written to");
-    t.run([](graph::NodeContext& c) {
-        FragmentExportOptions o;
-        o.meshes = c.boolean("meshes");
-        o.format = mesh_format_from_name(c.string("format"));
-        o.binary = c.boolean("binary");
-        o.adaptivity = c.real("adaptivity");
-        o.vdb = c.boolean("vdb");
-        o.preview = c.boolean("preview");
-        o.preview_options.explode = c.real("explode");
-        o.preview_options.width = int(c.integer("width"));
-        o.preview_options.height = int(c.integer("height"));
-        o.preview_options.up = vec3_param(c, "up");
-        o.preview_options.view = vec3_param(c, "view");
-        if (const std::string problem = preview_camera_problem(o.preview_options); !problem.empty())
-            c.fail("parameter " + problem);
-        o.prefix = c.string("prefix");
-        if (o.prefix.empty() || o.prefix.find_first_of("/\\") != std::string::npos)
-            c.fail("parameter 'prefix': must be a non-empty file name without slashes");
-        const Fragments& fragments = c.in<Fragments>("fragments");
-
-        DeformationOptions d;
-        const std::string mode = c.string("displacement");
-        d.mode = displacement_mode_from_name(mode);
-        d.scale = c.real("displacement_scale");
-        d.remove_compressive_opening = c.boolean("remove_compressive_opening");
-        d.close_gaps = c.boolean("close_gaps");
-        if (d.mode != DisplacementMode::none && !c.has("solution"))
-            c.fail("parameter 'displacement' = " + mode + " needs the input 'solution' (connect solve.sgbem), or set "
-                   "'displacement' to none");
-        if (d.mode == DisplacementMode::continuous_and_opening && !c.has("cracks"))
-            c.fail("parameter 'displacement' = continuous_and_opening needs the input 'cracks' (the crack grids the "
-                   "fragments were cut with): the fine crack surfaces decide which face a vertex is on");
-        if (d.close_gaps && !c.has("cracks"))
-            c.fail("parameter 'close_gaps' = true needs the input 'cracks' (the crack grids the fragments were cut "
-                   "with), or set 'close_gaps' to false");
-        const CrackLevelSets* cracks = c.has("cracks") ? &c.in<CrackLevelSets>("cracks") : nullptr;
-        if (cracks) d.opening_band = cracks->half_width;
-        std::unique_ptr<FragmentDeformation> deformation;
-        FragmentExportResult r;
-        try {
-            if (o.meshes && (d.mode != DisplacementMode::none || d.close_gaps)) {  // only mesh files are deformed
-                std::shared_ptr<const CoarseDisplacement> coarse;
-                if (d.mode != DisplacementMode::none)
-                    coarse = std::make_shared<const CoarseDisplacement>(
-                        coarse_displacement_from(c.in<bem::BemSolution>("solution"), true));
-                deformation = std::make_unique<FragmentDeformation>(coarse, cracks, fragments.voxel_size, d);
-                o.deformation = deformation.get();
-                c.count("compressive_opening_vertices", double(deformation->compressive_vertices()));
-            }
-            r = export_fragments(c.output_dir(), fragments, o);
-        } catch (const std::invalid_argument& e) {
-            c.fail(e.what());
-        }
-        c.count("files", double(r.files.size()));
-        c.count("triangles", double(r.triangles));
-        if (o.deformation) {
-            c.count("vertices_on_crack_sheets", double(r.deformation.on_crack));
-            c.count("vertices_opened", double(r.deformation.opened));
-            c.count("vertices_closed", double(r.deformation.closed));
-            c.count("opening_sign_from_coarse_mesh", double(r.deformation.sign_from_coarse));
-            c.count("max_vertex_displacement_m", r.deformation.max_displacement);
-        }
-        c.out("directory", c.output_dir().string());
-    });
+    t.run(run_export_fragments);
     return t;
 }
 

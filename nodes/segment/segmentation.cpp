@@ -304,36 +304,61 @@ struct Labelling {
     int count = 0;
 };
 
-Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd) {
-    const auto& leaves = items.leaves();
-    const std::size_t n = items.size();
-    std::vector<std::uint8_t> inside(n, 0);
-    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t l) {
-        const LeafT& leaf = *leaves[l];
-        const std::size_t base = l * LeafT::SIZE;
-        for (int off = 0; off < kLeafSize; ++off)
-            if (items.voxel_inside(leaf.getValue(openvdb::Index(off)))) inside[base + off] = 1;
-    });
-    std::fill(inside.begin() + std::ptrdiff_t(items.tile_base()), inside.end(), std::uint8_t(1));  // inside tiles only
-    std::vector<LeafMask> masks(leaves.size());
-    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t l) {
-        for (int off = 0; off < kLeafSize; ++off)
-            if (inside[l * LeafT::SIZE + std::size_t(off)]) masks[l][std::size_t(off >> 6)] |= std::uint64_t(1) << (off & 63);
-    });
+// The parallel connected-component search of find_fragments (its steps 1-3): inside items are
+// united in a ConcurrentForest, voxels with their 26 neighbours, tiles with their 6 face
+// neighbours, then numbered in order of their smallest item (deterministic).
+class ComponentSearch {
+public:
+    ComponentSearch(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd)
+        : items_(items), nbhd_(nbhd), leaves_(items.leaves()), n_(items.size()), forest_(n_) {}
+
+    Labelling run() {
+        mark_inside();
+        out_.boundary.assign(leaves_.size() * LeafT::SIZE, 0);
+        // 1a. Within each leaf, and its boundary voxels. 1b. Across leaf faces.
+        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            link_within_leaf(l);
+            mark_boundary(l);
+        });
+        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) { link_across_faces(l); });
+        // 2. Tiles with their face neighbours. 3. Components numbered.
+        link_tiles();
+        number_components();
+        return std::move(out_);
+    }
+
+private:
+    // Inside flags per item and inside bits per leaf; inside tiles are inside by construction.
+    void mark_inside() {
+        inside_.assign(n_, 0);
+        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            const LeafT& leaf = *leaves_[l];
+            const std::size_t base = l * LeafT::SIZE;
+            for (int off = 0; off < kLeafSize; ++off)
+                if (items_.voxel_inside(leaf.getValue(openvdb::Index(off)))) inside_[base + off] = 1;
+        });
+        std::fill(inside_.begin() + std::ptrdiff_t(items_.tile_base()), inside_.end(), std::uint8_t(1));  // inside tiles only
+        masks_.assign(leaves_.size(), LeafMask{});
+        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            for (int off = 0; off < kLeafSize; ++off)
+                if (inside_[l * LeafT::SIZE + std::size_t(off)]) masks_[l][std::size_t(off >> 6)] |= std::uint64_t(1) << (off & 63);
+        });
+    }
+
     // Inside bits of leaf l's block and its 1-voxel ring: bit z + 1 of rows[x + 1][y + 1] for
     // block coordinates x, y, z in [-1, 8]. Inside tiles count as inside.
-    auto ring_rows = [&](std::size_t l) {
+    RingRows ring_rows(std::size_t l) const {
         static constexpr int kPart[3][3] = {{0, 1, kLeafDim - 1}, {1, 1 + kLeafDim, 0}, {1 + kLeafDim, kLeafDim + 2, 0}};
         RingRows rows{};
         for (int bx = 0; bx < 3; ++bx)
             for (int by = 0; by < 3; ++by)
                 for (int bz = 0; bz < 3; ++bz) {
-                    const BlockRef& b = nbhd[l][std::size_t(bx * 9 + by * 3 + bz)];
+                    const BlockRef& b = nbhd_[l][std::size_t(bx * 9 + by * 3 + bz)];
                     for (int x = kPart[bx][0]; x < kPart[bx][1]; ++x)
                         for (int y = kPart[by][0]; y < kPart[by][1]; ++y) {
                             unsigned bits;  // the block's row, bit z for block z
                             if (b.leaf >= 0) {
-                                const std::uint64_t w = masks[std::size_t(b.leaf)][std::size_t(x - kPart[bx][0] + kPart[bx][2])];
+                                const std::uint64_t w = masks_[std::size_t(b.leaf)][std::size_t(x - kPart[bx][0] + kPart[bx][2])];
                                 bits = unsigned(w >> (8 * (y - kPart[by][0] + kPart[by][2]))) & 0xFFu;
                             } else {
                                 bits = b.tile_item >= 0 ? 0xFFu : 0u;
@@ -345,27 +370,24 @@ Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighb
                         }
                 }
         return rows;
-    };
+    }
 
-    Labelling out;
-    out.boundary.assign(leaves.size() * LeafT::SIZE, 0);
-    ConcurrentForest forest(n);
     // Is the voxel at local coordinate (x, y, z) of leaf l's block neighbourhood (each in
     // [-8, 16)) inside? Returns its item, or -1.
-    auto neighbour_item = [&](std::size_t l, int x, int y, int z) -> long long {
+    long long neighbour_item(std::size_t l, int x, int y, int z) const {
         const int bx = x < 0 ? -1 : (x >= kLeafDim ? 1 : 0), by = y < 0 ? -1 : (y >= kLeafDim ? 1 : 0),
                   bz = z < 0 ? -1 : (z >= kLeafDim ? 1 : 0);
-        const BlockRef& b = nbhd[l][block_slot(bx, by, bz)];
+        const BlockRef& b = nbhd_[l][block_slot(bx, by, bz)];
         if (b.leaf < 0) return b.tile_item;
         const long long item = (long long)b.leaf * kLeafSize +
                                LeafT::coordToOffset(Coord(x - bx * kLeafDim, y - by * kLeafDim, z - bz * kLeafDim));
-        return inside[item] ? item : -1;
-    };
-    // 1a. Within each leaf (26-neighbourhood), on bit masks (word x, bit 8 y + z = offset):
-    // each piece is flooded from its smallest offset, to which all its voxels then point.
-    // Boundary voxels: inside with an outside 26-neighbour, in this leaf or beyond its faces.
-    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t l) {
-        const LeafMask& m = masks[l];
+        return inside_[item] ? item : -1;
+    }
+
+    // 1a. Within leaf l (26-neighbourhood), on bit masks (word x, bit 8 y + z = offset): each
+    // piece is flooded from its smallest offset, to which all its voxels then point.
+    void link_within_leaf(std::size_t l) {
+        const LeafMask& m = masks_[l];
         LeafMask remaining = m;
         const std::size_t base = l * LeafT::SIZE;
         for (int x = 0; x < kLeafDim; ++x) {
@@ -386,11 +408,17 @@ Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighb
                 for (int w = 0; w < kLeafDim; ++w) {
                     remaining[std::size_t(w)] &= ~piece[std::size_t(w)];
                     for (std::uint64_t bits = piece[std::size_t(w)]; bits; bits &= bits - 1)
-                        forest.set_parent(int(base + std::size_t(w * 64 + __builtin_ctzll(bits))), int(base + std::size_t(root)));
+                        forest_.set_parent(int(base + std::size_t(w * 64 + __builtin_ctzll(bits))), int(base + std::size_t(root)));
                 }
             }
         }
-        // Outside voxels of the leaf and its 1-voxel ring, dilated by one onto the leaf.
+    }
+
+    // Boundary voxels of leaf l: inside with an outside 26-neighbour, in this leaf or beyond its
+    // faces (the outside voxels of the leaf and its 1-voxel ring, dilated by one onto the leaf).
+    void mark_boundary(std::size_t l) {
+        const LeafMask& m = masks_[l];
+        const std::size_t base = l * LeafT::SIZE;
         const RingRows in = ring_rows(l);
         for (int x = 0; x < kLeafDim; ++x) {
             std::uint64_t near_outside = 0;
@@ -404,12 +432,13 @@ Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighb
                 near_outside |= std::uint64_t((d >> 1) & 0xFFu) << (8 * y);
             }
             std::uint64_t b = near_outside & m[std::size_t(x)];
-            for (; b; b &= b - 1) out.boundary[base + std::size_t(x * 64 + __builtin_ctzll(b))] = 1;
+            for (; b; b &= b - 1) out_.boundary[base + std::size_t(x * 64 + __builtin_ctzll(b))] = 1;
         }
-    });
-    // 1b. Across leaf faces: inside voxels with their inside neighbours in other leaves and in
-    // inside tiles.
-    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t l) {
+    }
+
+    // 1b. Across the faces of leaf l: inside voxels with their inside neighbours in other leaves
+    // and in inside tiles.
+    void link_across_faces(std::size_t l) {
         const std::size_t base = l * LeafT::SIZE;
         int last_a = -1, last_b = -1;
         for (int x = 0; x < kLeafDim; ++x)
@@ -418,7 +447,7 @@ Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighb
                     const bool face = x == 0 || y == 0 || z == 0 || x == kLeafDim - 1 || y == kLeafDim - 1 ||
                                       z == kLeafDim - 1;
                     const int off = (x * kLeafDim + y) * kLeafDim + z;
-                    if (!face || !inside[base + off]) continue;
+                    if (!face || !inside_[base + off]) continue;
                     for (int dx = -1; dx <= 1; ++dx)
                         for (int dy = -1; dy <= 1; ++dy)
                             for (int dz = -1; dz <= 1; ++dz) {
@@ -428,63 +457,82 @@ Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighb
                                 const long long other = neighbour_item(l, nx, ny, nz);
                                 // A voxel-voxel edge is seen from both ends: take it from the
                                 // smaller item only. Tiles do not look back at voxels.
-                                if (other < 0 || (other < (long long)items.tile_base() && other < (long long)(base + off)))
+                                if (other < 0 || (other < (long long)items_.tile_base() && other < (long long)(base + off)))
                                     continue;
                                 // Uniting ancestors is the same as uniting the items; runs of
                                 // face voxels mostly repeat the previous pair of pieces.
-                                const int a = forest.parent(int(base + off)), b = forest.parent(int(other));
+                                const int a = forest_.parent(int(base + off)), b = forest_.parent(int(other));
                                 if (a == last_a && b == last_b) continue;
                                 last_a = a;
                                 last_b = b;
-                                forest.unite(a, b);
+                                forest_.unite(a, b);
                             }
                 }
-    });
+    }
+
     // 2. Tiles: one probe just beyond each face (ch. 6.3). A neighbour at least as large as
     // the tile covers the whole face, so this probe finds it; smaller neighbours (voxels,
     // smaller tiles) find the tile from their own side.
-    tbb::enumerable_thread_specific<ConstAccessor> accs([&] { return items.accessor(); });
-    tbb::parallel_for(std::size_t(0), items.tiles().size(), [&](std::size_t t) {
-        ConstAccessor& acc = accs.local();
-        const int item = int(items.tile_base() + t);
-        const openvdb::CoordBBox& b = items.tiles()[t];
-        const Coord probes[6] = {b.min().offsetBy(-1, 0, 0), b.min().offsetBy(0, -1, 0), b.min().offsetBy(0, 0, -1),
-                                 b.max().offsetBy(1, 0, 0),  b.max().offsetBy(0, 1, 0),  b.max().offsetBy(0, 0, 1)};
-        for (const Coord& p : probes) {
-            const long long other = items.inside_item(acc, p);
-            if (other >= 0) forest.unite(item, int(other));
-        }
-    });
+    void link_tiles() {
+        tbb::enumerable_thread_specific<ConstAccessor> accs([&] { return items_.accessor(); });
+        tbb::parallel_for(std::size_t(0), items_.tiles().size(), [&](std::size_t t) {
+            ConstAccessor& acc = accs.local();
+            const int item = int(items_.tile_base() + t);
+            const openvdb::CoordBBox& b = items_.tiles()[t];
+            const Coord probes[6] = {b.min().offsetBy(-1, 0, 0), b.min().offsetBy(0, -1, 0), b.min().offsetBy(0, 0, -1),
+                                     b.max().offsetBy(1, 0, 0),  b.max().offsetBy(0, 1, 0),  b.max().offsetBy(0, 0, 1)};
+            for (const Coord& p : probes) {
+                const long long other = items_.inside_item(acc, p);
+                if (other >= 0) forest_.unite(item, int(other));
+            }
+        });
+    }
+
     // 3. Components numbered in order of their smallest item, which is their root.
-    out.label.assign(n, -1);
-    constexpr std::size_t kChunk = 1 << 16;  // fixed chunks: the numbering is a plain prefix count
-    const std::size_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<int> roots_in_chunk(chunks, 0);
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-        int roots = 0;
-        for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-            if (!inside[i]) continue;
-            const int r = forest.find(int(i));
-            if (r == int(i)) ++roots;
-        }
-        roots_in_chunk[c] = roots;
-    });
-    std::vector<int> first_label(chunks, 0);
-    for (std::size_t c = 1; c < chunks; ++c) first_label[c] = first_label[c - 1] + roots_in_chunk[c - 1];
-    out.count = chunks ? first_label.back() + roots_in_chunk.back() : 0;
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-        int next = first_label[c];
-        for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
-            if (inside[i] && forest.parent(int(i)) == int(i)) out.label[i] = next++;
-    });
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-        for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-            if (!inside[i]) continue;
-            const int r = forest.find(int(i));
-            if (r != int(i)) out.label[i] = out.label[r];
-        }
-    });
-    return out;
+    void number_components() {
+        const std::size_t n = n_;
+        out_.label.assign(n, -1);
+        constexpr std::size_t kChunk = 1 << 16;  // fixed chunks: the numbering is a plain prefix count
+        const std::size_t chunks = (n + kChunk - 1) / kChunk;
+        std::vector<int> roots_in_chunk(chunks, 0);
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            int roots = 0;
+            for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+                if (!inside_[i]) continue;
+                const int r = forest_.find(int(i));
+                if (r == int(i)) ++roots;
+            }
+            roots_in_chunk[c] = roots;
+        });
+        std::vector<int> first_label(chunks, 0);
+        for (std::size_t c = 1; c < chunks; ++c) first_label[c] = first_label[c - 1] + roots_in_chunk[c - 1];
+        out_.count = chunks ? first_label.back() + roots_in_chunk.back() : 0;
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            int next = first_label[c];
+            for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
+                if (inside_[i] && forest_.parent(int(i)) == int(i)) out_.label[i] = next++;
+        });
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+                if (!inside_[i]) continue;
+                const int r = forest_.find(int(i));
+                if (r != int(i)) out_.label[i] = out_.label[r];
+            }
+        });
+    }
+
+    const ItemIndex& items_;
+    const std::vector<BlockNeighbourhood>& nbhd_;
+    const std::vector<const LeafT*>& leaves_;
+    const std::size_t n_;
+    ConcurrentForest forest_;
+    std::vector<std::uint8_t> inside_;  // per item
+    std::vector<LeafMask> masks_;       // per leaf
+    Labelling out_;
+};
+
+Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd) {
+    return ComponentSearch(items, nbhd).run();
 }
 
 // The leaves that one block of the input contributes to the fragments' grids (step 4 of
@@ -499,16 +547,37 @@ public:
         : items_(items), lab_(lab), d_(d), sf_(sf), bg_(bg), half_voxel_(float(0.5 * r_f)) {}
 
     BlockOutput build(const Coord& origin, const BlockNeighbourhood& nb) const {
-        constexpr int R = kRegion;
-        // Item labels and flags (bit 0: inside leaf voxel, bit 1: boundary voxel) over the block
-        // and its 2-voxel ring (region index = block coordinate + 2), filled block by block:
-        // for each axis, the region part [begin, end) of the lower, central and upper block
-        // and the block coordinate where it starts.
-        static constexpr int kPart[3][3] = {{0, 2, kLeafDim - 2}, {2, 2 + kLeafDim, 0}, {2 + kLeafDim, R, 0}};
+        const Region region = gather_region(nb);
+        BlockOutput out;
+        if (region.hi_label < 0) return out;  // no inside voxel reaches this block
+        const bool one_label = region.lo_label == region.hi_label;
+        const std::vector<int> frags = candidate_fragments(region, one_label);
+        const std::array<float, kLeafSize> value = block_values(nb);
+        for (const int k : frags) {
+            std::unique_ptr<LeafT> leaf = fragment_leaf(origin, region, k, one_label, value);
+            if (leaf) out.leaves.emplace_back(k, std::move(leaf));
+        }
+        return out;
+    }
+
+private:
+    static constexpr int R = kRegion;
+
+    // Item labels and flags (bit 0: inside leaf voxel, bit 1: boundary voxel) over the block and
+    // its 2-voxel ring (region index = block coordinate + 2), with the same as row bit masks and
+    // the range of labels over inside leaf voxels.
+    struct Region {
         std::array<int, R * R * R> label;
         std::array<std::uint8_t, R * R * R> flags;
         RegionRows inside_rows{}, boundary_rows{};
-        int lo_label = std::numeric_limits<int>::max(), hi_label = -1;  // over inside leaf voxels
+        int lo_label = std::numeric_limits<int>::max(), hi_label = -1;
+    };
+
+    // The region filled block by block: for each axis, the region part [begin, end) of the lower,
+    // central and upper block and the block coordinate where it starts.
+    Region gather_region(const BlockNeighbourhood& nb) const {
+        static constexpr int kPart[3][3] = {{0, 2, kLeafDim - 2}, {2, 2 + kLeafDim, 0}, {2 + kLeafDim, R, 0}};
+        Region g;
         for (int bx = 0; bx < 3; ++bx)
             for (int by = 0; by < 3; ++by)
                 for (int bz = 0; bz < 3; ++bz) {
@@ -519,8 +588,8 @@ public:
                             const int q0 = (x * R + y) * R;
                             if (b.leaf < 0) {
                                 for (int z = kPart[bz][0]; z < kPart[bz][1]; ++z) {
-                                    label[q0 + z] = tile_label;
-                                    flags[q0 + z] = 0;
+                                    g.label[q0 + z] = tile_label;
+                                    g.flags[q0 + z] = 0;
                                 }
                                 continue;
                             }
@@ -531,109 +600,121 @@ public:
                             for (int z = kPart[bz][0]; z < kPart[bz][1]; ++z) {
                                 const std::size_t item = row + std::size_t(z - kPart[bz][0] + kPart[bz][2]);
                                 const int l = lab_.label[item];
-                                label[q0 + z] = l;
+                                g.label[q0 + z] = l;
                                 const unsigned in = l >= 0, bd = lab_.boundary[item];
-                                flags[q0 + z] = std::uint8_t(in | (bd << 1));
+                                g.flags[q0 + z] = std::uint8_t(in | (bd << 1));
                                 in_bits |= in << z;
                                 bd_bits |= bd << z;
                                 if (in) {
-                                    lo_label = std::min(lo_label, l);
-                                    hi_label = std::max(hi_label, l);
+                                    g.lo_label = std::min(g.lo_label, l);
+                                    g.hi_label = std::max(g.hi_label, l);
                                 }
                             }
-                            inside_rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(in_bits);
-                            boundary_rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(bd_bits);
+                            g.inside_rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(in_bits);
+                            g.boundary_rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(bd_bits);
                         }
                 }
-        BlockOutput out;
-        if (hi_label < 0) return out;  // no inside voxel reaches this block
-        // Fragments that can write here: inside voxels within 1 (own voxels and their
-        // neighbours), boundary voxels within d (the d-ring). Usually one or two.
-        const bool one_label = lo_label == hi_label;  // then the candidates are just that label
+        return g;
+    }
+
+    // Fragments that can write here: inside voxels within 1 (own voxels and their neighbours),
+    // boundary voxels within d (the d-ring). Usually one or two; sorted.
+    std::vector<int> candidate_fragments(const Region& g, bool one_label) const {
         std::vector<int> frags;
-        if (one_label) frags.push_back(lo_label);
+        if (one_label) frags.push_back(g.lo_label);  // then the candidates are just that label
         int last = -1;
         for (int x = 0; x < R && !one_label; ++x)
             for (int y = 0; y < R; ++y)
                 for (int z = 0; z < R; ++z) {
                     const int q = (x * R + y) * R + z;
                     const bool near = x >= 1 && x <= R - 2 && y >= 1 && y <= R - 2 && z >= 1 && z <= R - 2;
-                    if (!(((flags[q] & 1) && near) || ((flags[q] & 2) && d_ >= 2))) continue;
-                    if (label[q] == last) continue;
-                    last = label[q];
+                    if (!(((g.flags[q] & 1) && near) || ((g.flags[q] & 2) && d_ >= 2))) continue;
+                    if (g.label[q] == last) continue;
+                    last = g.label[q];
                     if (std::find(frags.begin(), frags.end(), last) == frags.end()) frags.push_back(last);
                 }
         std::sort(frags.begin(), frags.end());
+        return frags;
+    }
+
+    // The input's values over the central block (a leaf's voxels or its tile's value).
+    std::array<float, kLeafSize> block_values(const BlockNeighbourhood& nb) const {
         std::array<float, kLeafSize> value;
         const BlockRef& centre = nb[13];
         for (int off = 0; off < kLeafSize; ++off)
             value[std::size_t(off)] = centre.leaf >= 0 ? items_.leaves()[std::size_t(centre.leaf)]->getValue(openvdb::Index(off))
                                                        : centre.value;
-        for (const int k : frags) {
-            RegionRows inside_k = inside_rows, boundary_k = boundary_rows;
-            for (int x = 0; x < R && !one_label; ++x)
-                for (int y = 0; y < R; ++y) {
-                    unsigned mi = 0, mb = 0;
-                    for (int z = 0; z < R; ++z) {
-                        const int q = (x * R + y) * R + z;
-                        if (label[q] != k) continue;
-                        mi |= unsigned(flags[q] & 1) << z;
-                        mb |= unsigned((flags[q] >> 1) & 1) << z;
-                    }
-                    inside_k[x][y] = std::uint16_t(mi);
-                    boundary_k[x][y] = std::uint16_t(mb);
-                }
-            const BlockRows copied = dilate_to_block(inside_k, 1);
-            BlockRows ring{};
-            if (d_ >= 2) ring = dilate_to_block(boundary_k, 2);
-            std::unique_ptr<LeafT> leaf;
-            for (int x = 0; x < kLeafDim; ++x)
-                for (int y = 0; y < kLeafDim; ++y)
-                    for (int z = 0; z < kLeafDim; ++z) {
-                        const int q = ((x + 2) * R + y + 2) * R + z + 2;
-                        const bool in_copy = (copied[x][y] >> (z + 2)) & 1, in_ring = (ring[x][y] >> (z + 2)) & 1;
-                        const openvdb::Index off = openvdb::Index((x << 6) | (y << 3) | z);
-                        const float v = value[off];
-                        float w;
-                        if (label[q] >= 0) {
-                            // Inside: the fragment's own voxels; another fragment's voxels and
-                            // tiles within the d-ring get +r_f/2 (never copy a neighbour).
-                            if (label[q] == k) {
-                                if (!(flags[q] & 1)) continue;  // own tile: added as a tile
-                                w = v;
-                            } else if (in_ring) {
-                                w = half_voxel_;
-                            } else {
-                                continue;
-                            }
-                        } else if (in_copy) {
-                            w = v;  // outside 26-neighbour: the input value, any sign
-                        } else if (in_ring) {
-                            w = v > 0 ? v : v + sf_;  // d-ring: shallow negatives over-segmented
-                        } else {
-                            continue;
-                        }
-                        if (!leaf) leaf = std::make_unique<LeafT>(origin, bg_, false);
-                        leaf->setValueOn(off, w);
-                    }
-            if (leaf) out.leaves.emplace_back(k, std::move(leaf));
-        }
-        return out;
+        return value;
     }
 
-private:
+    // Fragment k's leaf over the central block (null when it writes nothing there): its own
+    // voxels, their outside 26-neighbours with the input value, and the d-ring.
+    std::unique_ptr<LeafT> fragment_leaf(const Coord& origin, const Region& g, int k, bool one_label,
+                                         const std::array<float, kLeafSize>& value) const {
+        RegionRows inside_k = g.inside_rows, boundary_k = g.boundary_rows;
+        for (int x = 0; x < R && !one_label; ++x)
+            for (int y = 0; y < R; ++y) {
+                unsigned mi = 0, mb = 0;
+                for (int z = 0; z < R; ++z) {
+                    const int q = (x * R + y) * R + z;
+                    if (g.label[q] != k) continue;
+                    mi |= unsigned(g.flags[q] & 1) << z;
+                    mb |= unsigned((g.flags[q] >> 1) & 1) << z;
+                }
+                inside_k[x][y] = std::uint16_t(mi);
+                boundary_k[x][y] = std::uint16_t(mb);
+            }
+        const BlockRows copied = dilate_to_block(inside_k, 1);
+        BlockRows ring{};
+        if (d_ >= 2) ring = dilate_to_block(boundary_k, 2);
+        std::unique_ptr<LeafT> leaf;
+        for (int x = 0; x < kLeafDim; ++x)
+            for (int y = 0; y < kLeafDim; ++y)
+                for (int z = 0; z < kLeafDim; ++z) {
+                    const int q = ((x + 2) * R + y + 2) * R + z + 2;
+                    const bool in_copy = (copied[x][y] >> (z + 2)) & 1, in_ring = (ring[x][y] >> (z + 2)) & 1;
+                    const openvdb::Index off = openvdb::Index((x << 6) | (y << 3) | z);
+                    float w;
+                    if (!voxel_value(g, q, k, in_copy, in_ring, value[off], w)) continue;
+                    if (!leaf) leaf = std::make_unique<LeafT>(origin, bg_, false);
+                    leaf->setValueOn(off, w);
+                }
+        return leaf;
+    }
+
+    // Fragment k's value w at region voxel q with input value v; false: fragment k writes nothing.
+    bool voxel_value(const Region& g, int q, int k, bool in_copy, bool in_ring, float v, float& w) const {
+        if (g.label[q] >= 0) {
+            // Inside: the fragment's own voxels; another fragment's voxels and tiles within the
+            // d-ring get +r_f/2 (never copy a neighbour).
+            if (g.label[q] == k) {
+                if (!(g.flags[q] & 1)) return false;  // own tile: added as a tile
+                w = v;
+            } else if (in_ring) {
+                w = half_voxel_;
+            } else {
+                return false;
+            }
+        } else if (in_copy) {
+            w = v;  // outside 26-neighbour: the input value, any sign
+        } else if (in_ring) {
+            w = v > 0 ? v : v + sf_;  // d-ring: shallow negatives over-segmented
+        } else {
+            return false;
+        }
+        return true;
+    }
+
     const ItemIndex& items_;
     const Labelling& lab_;
     int d_;
     float sf_, bg_, half_voxel_;
 };
 
-}  // namespace
+// find_fragments' steps, in the order it calls them.
 
-Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) {
-    ensure_openvdb_initialized();
-    const auto& in = grid_of(broken);
-    const double r_f = broken.voxel_size;
+// The over-segmentation threshold s in [0, r_f] (default r_f).
+double checked_threshold(double r_f, const SegmentOptions& options) {
     const double s = options.threshold < 0 ? r_f : options.threshold;
     if (!(s >= 0 && s <= r_f * (1 + 1e-9))) {
         std::ostringstream m;
@@ -643,6 +724,90 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
           << r_f << " m";
         throw std::invalid_argument(m.str());
     }
+    return s;
+}
+
+// The blocks that may receive fragment voxels: every leaf's block (in leaf order, so block l is
+// leaf l) and then, sorted and once each, the non-leaf blocks next to a leaf.
+std::vector<Coord> output_blocks(const std::vector<const LeafT*>& leaves, const std::vector<BlockNeighbourhood>& nbhd) {
+    std::vector<Coord> blocks;
+    blocks.reserve(leaves.size());
+    for (const LeafT* leaf : leaves) blocks.push_back(leaf->origin());
+    std::vector<Coord> extra;
+    for (std::size_t l = 0; l < leaves.size(); ++l)
+        for (int slot = 0; slot < 27; ++slot)
+            if (nbhd[l][slot].leaf < 0)
+                extra.push_back(leaves[l]->origin().offsetBy((slot / 9 - 1) * kLeafDim, (slot / 3 % 3 - 1) * kLeafDim,
+                                                             (slot % 3 - 1) * kLeafDim));
+    std::sort(extra.begin(), extra.end());
+    extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+    blocks.insert(blocks.end(), extra.begin(), extra.end());
+    return blocks;
+}
+
+// One fragment's level set: its leaves (moved in) and its inside tiles, which keep their place in
+// the hierarchy (FloatTree::addTile levels: 1 = 8^3 ...), signed-flood-filled.
+openvdb::FloatGrid::Ptr fragment_grid(const openvdb::FloatGrid& in, const ItemIndex& items,
+                                      std::vector<std::unique_ptr<LeafT>>& leaves, const std::vector<std::size_t>& tiles) {
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(in.background());
+    grid->setTransform(in.transform().copy());
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    leaves.clear();
+    for (std::size_t t : tiles)
+        grid->tree().addTile(openvdb::Index(items.tile_level(t)), items.tiles()[t].min(), items.tile_value(t), false);
+    openvdb::tools::signedFloodFill(grid->tree());
+    grid->setName("fragment");
+    return grid;
+}
+
+// Volume, centroid and bbox of a fragment's inside: linear Heaviside clamp(1/2 - phi/r_f, 0, 1)
+// per voxel (exact for a planar interface), whole inside tiles. LevelSetMeasure is not used
+// here: its 3-voxel Dirac delta needs a full outside band, which a fragment has only up to its
+// d-ring. Summed in tree order within a fragment (reproducible).
+void measure_fragment(const openvdb::FloatGrid& g, double r_f, Fragment& f) {
+    double w_sum = 0;
+    Vec3 wx = Vec3::Zero();
+    Coord lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+    for (auto it = g.tree().cbeginValueAll(); it; ++it) {
+        const float v = *it;
+        if (v >= 0.5f * float(r_f)) continue;
+        const openvdb::CoordBBox b = it.getBoundingBox();
+        const double w = it.isTileValue() ? 1.0 : std::clamp(0.5 - v / r_f, 0.0, 1.0);
+        if (w <= 0) continue;
+        const double vox = double(b.volume());
+        const Vec3 centre = 0.5 * r_f * Vec3(b.min()[0] + b.max()[0], b.min()[1] + b.max()[1], b.min()[2] + b.max()[2]);
+        w_sum += w * vox;
+        wx += w * vox * centre;
+        if (v < 0) {
+            lo = Coord::minComponent(lo, b.min());
+            hi = Coord::maxComponent(hi, b.max());
+        }
+    }
+    f.volume = w_sum * r_f * r_f * r_f;
+    f.centroid = w_sum > 0 ? Vec3(wx / w_sum) : Vec3::Zero();
+    f.bbox = Box3{r_f * Vec3(lo[0], lo[1], lo[2]), r_f * Vec3(hi[0], hi[1], hi[2])};
+}
+
+// Fragments by decreasing volume (ties by bbox corner), named fragment0, fragment1, ... in that
+// order (the names appear in .vdb files).
+void order_fragments(Fragments& result) {
+    std::stable_sort(result.fragments.begin(), result.fragments.end(), [](const Fragment& a, const Fragment& b) {
+        if (a.volume != b.volume) return a.volume > b.volume;
+        return std::lexicographical_compare(a.bbox.min.data(), a.bbox.min.data() + 3, b.bbox.min.data(),
+                                            b.bbox.min.data() + 3);
+    });
+    for (std::size_t i = 0; i < result.fragments.size(); ++i)
+        std::const_pointer_cast<LevelSetGrid>(result.fragments[i].grid.grid)->grid->setName("fragment" + std::to_string(i));
+}
+
+}  // namespace
+
+Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) {
+    ensure_openvdb_initialized();
+    const auto& in = grid_of(broken);
+    const double r_f = broken.voxel_size;
+    const double s = checked_threshold(r_f, options);
     const float sf = float(s);
     const int d = over_segmentation_ring(s, r_f);  // 1 or 2 for s in [0, r_f]
     const CancelToken cancel = CancelToken::current();  // polled per leaf, block and fragment
@@ -672,20 +837,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     // fragment get +r_f/2: never copy a neighbouring fragment. Every written voxel lies in a leaf
     // block or in a block next to one, and its value depends only on the labels and values
     // within 2 voxels, so each block is built on its own, in parallel.
-    std::vector<Coord> blocks;
-    blocks.reserve(leaves.size());
-    for (const LeafT* leaf : leaves) blocks.push_back(leaf->origin());
-    {
-        std::vector<Coord> extra;
-        for (std::size_t l = 0; l < leaves.size(); ++l)
-            for (int slot = 0; slot < 27; ++slot)
-                if (nbhd[l][slot].leaf < 0)
-                    extra.push_back(leaves[l]->origin().offsetBy((slot / 9 - 1) * kLeafDim, (slot / 3 % 3 - 1) * kLeafDim,
-                                                                 (slot % 3 - 1) * kLeafDim));
-        std::sort(extra.begin(), extra.end());
-        extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
-        blocks.insert(blocks.end(), extra.begin(), extra.end());
-    }
+    const std::vector<Coord> blocks = output_blocks(leaves, nbhd);
     const float bg = in.background();
     const FragmentBlockBuilder builder(items, lab, d, sf, bg, r_f);
     std::vector<BlockOutput> built(blocks.size());
@@ -696,7 +848,8 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     nbhd.clear();
     nbhd.shrink_to_fit();
 
-    std::vector<openvdb::FloatGrid::Ptr> grids(count);
+    // 5. The blocks' leaves and the inside tiles gathered per fragment, each fragment's grid
+    // assembled and measured in parallel, then the fragments ordered.
     std::vector<std::vector<std::unique_ptr<LeafT>>> leaves_of(count);
     for (BlockOutput& b : built)
         for (auto& [k, leaf] : b.leaves) leaves_of[k].push_back(std::move(leaf));
@@ -711,55 +864,13 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     result.fragments.resize(count);
     tbb::parallel_for(0, count, [&](int k) {
         cancel.poll();
-        grids[k] = openvdb::FloatGrid::create(bg);
-        grids[k]->setTransform(in.transform().copy());
-        grids[k]->setGridClass(openvdb::GRID_LEVEL_SET);
-        openvdb::FloatGrid& g = *grids[k];
-        for (auto& leaf : leaves_of[k]) g.tree().addLeaf(leaf.release());
-        leaves_of[k].clear();
-        // Inside tiles keep their place in the hierarchy (FloatTree::addTile levels: 1 = 8^3 ...).
-        for (std::size_t t : tiles_of[k])
-            g.tree().addTile(openvdb::Index(items.tile_level(t)), items.tiles()[t].min(), items.tile_value(t), false);
-        openvdb::tools::signedFloodFill(g.tree());
-        g.setName("fragment");
+        const openvdb::FloatGrid::Ptr grid = fragment_grid(in, items, leaves_of[k], tiles_of[k]);
         Fragment& f = result.fragments[k];
-        f.active_voxels = g.activeVoxelCount();
-        // Volume, centroid and bbox of the inside: linear Heaviside clamp(1/2 - phi/r_f, 0, 1)
-        // per voxel (exact for a planar interface), whole inside tiles. LevelSetMeasure is not
-        // used here: its 3-voxel Dirac delta needs a full outside band, which a fragment has
-        // only up to its d-ring. Summed in tree order within a fragment (reproducible).
-        double w_sum = 0;
-        Vec3 wx = Vec3::Zero();
-        Coord lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
-        for (auto it = g.tree().cbeginValueAll(); it; ++it) {
-            const float v = *it;
-            if (v >= 0.5f * float(r_f)) continue;
-            const openvdb::CoordBBox b = it.getBoundingBox();
-            const double w = it.isTileValue() ? 1.0 : std::clamp(0.5 - v / r_f, 0.0, 1.0);
-            if (w <= 0) continue;
-            const double vox = double(b.volume());
-            const Vec3 centre = 0.5 * r_f * Vec3(b.min()[0] + b.max()[0], b.min()[1] + b.max()[1], b.min()[2] + b.max()[2]);
-            w_sum += w * vox;
-            wx += w * vox * centre;
-            if (v < 0) {
-                lo = Coord::minComponent(lo, b.min());
-                hi = Coord::maxComponent(hi, b.max());
-            }
-        }
-        f.volume = w_sum * r_f * r_f * r_f;
-        f.centroid = w_sum > 0 ? Vec3(wx / w_sum) : Vec3::Zero();
-        f.bbox = Box3{r_f * Vec3(lo[0], lo[1], lo[2]), r_f * Vec3(hi[0], hi[1], hi[2])};
-        f.grid = wrap_grid(grids[k], r_f, broken.half_width);
+        f.active_voxels = grid->activeVoxelCount();
+        measure_fragment(*grid, r_f, f);
+        f.grid = wrap_grid(grid, r_f, broken.half_width);
     });
-    std::stable_sort(result.fragments.begin(), result.fragments.end(), [](const Fragment& a, const Fragment& b) {
-        if (a.volume != b.volume) return a.volume > b.volume;
-        return std::lexicographical_compare(a.bbox.min.data(), a.bbox.min.data() + 3, b.bbox.min.data(),
-                                            b.bbox.min.data() + 3);
-    });
-    for (std::size_t i = 0; i < result.fragments.size(); ++i) {
-        // Names appear in .vdb files.
-        std::const_pointer_cast<LevelSetGrid>(result.fragments[i].grid.grid)->grid->setName("fragment" + std::to_string(i));
-    }
+    order_fragments(result);
     return result;
 }
 
