@@ -157,54 +157,58 @@ Vec3 aligned_estimate(const Mat3& sigma, const Vec3& e1, const Vec3& e2, const V
     return {KI, KII, KIII};
 }
 
-std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const SurfaceMesh& cracks,
-                                             const SifEstimatorSettings& set, SifEstimatorReport* report,
-                                             const std::vector<char>* moving) {
-    if (!sol.surface) throw std::invalid_argument("SIF estimator: the solution has no surface");
-    if (cracks.num_triangles() == 0)
-        throw std::invalid_argument("SIF estimator: there is no crack front yet (no crack sheet); connect it where cracks exist, "
-                                    "or use sif.fronts, which waits for them");
-    const bem::SurfaceOperators& s = *sol.surface;
-    const double nu = s.elastic.nu, E = 2 * s.elastic.mu * (1 + nu);
-    // Coarse crack areas, one face (eq. 5.1).
+namespace {
+
+// estimate_sifs' steps, in the order it calls them.
+
+// Coarse crack areas, one face (eq. 5.1), per crack.
+std::vector<double> crack_areas(const SurfaceMesh& cracks) {
     std::vector<double> area(static_cast<std::size_t>(cracks.num_regions()), 0.0);
     for (std::size_t t = 0; t < cracks.num_triangles(); ++t) {
         const Tri& tr = cracks.triangles[t];
         area[cracks.region_of(t)] +=
             0.5 * (cracks.vertices[tr[1]] - cracks.vertices[tr[0]]).cross(cracks.vertices[tr[2]] - cracks.vertices[tr[0]]).norm();
     }
-    const auto fronts = front_edges(cracks);
-    if (fronts.empty()) throw std::invalid_argument("SIF estimator: the crack sheets have no front");
-    for (const auto& f : fronts) {
-        const double A = area[f.front().region];
-        if (!(A > 0))
-            throw std::invalid_argument("SIF estimator: crack '" + cracks.region_name(f.front().region) +
-                                        "' has zero area; its coarse sheet needs triangles of positive area");
-    }
-    // Evaluation points: near-surface ones take the closest triangle's surface stress.
+    return area;
+}
+
+// The stress at each front edge's midpoint, per front and edge, and which edges were evaluated.
+struct FrontStresses {
+    std::vector<std::vector<Mat3>> sigma;
+    std::vector<std::vector<char>> evaluated;
+};
+
+// Stress at the midpoints of the edges that move (all without `moving`): near-surface points
+// take the closest triangle's surface stress (eq. 4.6), the others the Somigliana stress without
+// crack terms (eq. 2.23), evaluated together.
+FrontStresses front_stresses(const bem::BemSolution& sol, const SurfaceMesh& cracks,
+                             const std::vector<std::vector<FrontEdge>>& fronts, const SifEstimatorSettings& set,
+                             const std::vector<char>* moving, SifEstimatorReport& rep) {
+    const bem::SurfaceOperators& s = *sol.surface;
+    const double nu = s.elastic.nu, E = 2 * s.elastic.mu * (1 + nu);
     std::vector<Vec3> points;
     std::vector<std::pair<std::size_t, std::size_t>> where;  // (front, edge) of each interior point
-    std::vector<std::vector<Mat3>> sigma(fronts.size());
-    std::vector<std::vector<char>> evaluated(fronts.size());
-    SifEstimatorReport rep;
+    FrontStresses out;
+    out.sigma.resize(fronts.size());
+    out.evaluated.resize(fronts.size());
     const bool all_move = !moving || moving->size() != cracks.num_vertices();
     for (std::size_t f = 0; f < fronts.size(); ++f) {
-        sigma[f].assign(fronts[f].size(), Mat3::Zero());
-        evaluated[f].assign(fronts[f].size(), 0);
+        out.sigma[f].assign(fronts[f].size(), Mat3::Zero());
+        out.evaluated[f].assign(fronts[f].size(), 0);
         for (std::size_t i = 0; i < fronts[f].size(); ++i) {
             const FrontEdge& e = fronts[f][i];
             if (!all_move && !(*moving)[e.v0] && !(*moving)[e.v1]) {
                 ++rep.skipped_edges;
                 continue;
             }
-            evaluated[f][i] = 1;
+            out.evaluated[f][i] = 1;
             const Vec3 p = 0.5 * (cracks.vertices[e.v0] + cracks.vertices[e.v1]);
             const auto [tri, dist] = closest_surface_triangle(s, p);
             if (dist < set.near_surface * s.geometry[tri].diameter) {
                 const auto& g = s.geometry[tri];
                 const std::array<Vec3, 3> u = {sol.displacement[g.nodes[0]], sol.displacement[g.nodes[1]],
                                                sol.displacement[g.nodes[2]]};
-                sigma[f][i] = initiate::surface_stress(g.p, u, sol.traction[tri], E, nu);  // eq. (4.6)
+                out.sigma[f][i] = initiate::surface_stress(g.p, u, sol.traction[tri], E, nu);  // eq. (4.6)
                 ++rep.surface_points;
             } else {
                 points.push_back(p);
@@ -214,47 +218,83 @@ std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const 
     }
     if (!points.empty()) {
         const std::vector<Mat3> st = bem::interior_stress(sol, points, false, set.quadrature);  // eq. (2.23), no crack term
-        for (std::size_t k = 0; k < points.size(); ++k) sigma[where[k].first][where[k].second] = st[k];
+        for (std::size_t k = 0; k < points.size(); ++k) out.sigma[where[k].first][where[k].second] = st[k];
     }
     rep.interior_points = points.size();
+    return out;
+}
+
+// Edges not evaluated take the nearest evaluated edge's stress along the (closed) loop, the
+// earlier one on ties. False when the front has no evaluated edge (it is stopped).
+bool fill_unevaluated(std::vector<Mat3>& sigma, const std::vector<char>& evaluated) {
+    const std::size_t m = sigma.size();
+    bool any = false;
+    for (char e : evaluated) any = any || e;
+    if (!any) return false;
+    for (std::size_t i = 0; i < m; ++i) {
+        if (evaluated[i]) continue;
+        for (std::size_t d = 1; d <= m; ++d) {
+            if (evaluated[(i + m - d) % m]) { sigma[i] = sigma[(i + m - d) % m]; break; }
+            if (evaluated[(i + d) % m]) { sigma[i] = sigma[(i + d) % m]; break; }
+        }
+    }
+    return true;
+}
+
+// The SIFs of one front's edges from their (smoothed) stresses, by the chosen estimator.
+void estimate_front(const SurfaceMesh& cracks, const std::vector<FrontEdge>& front, const std::vector<Mat3>& sigma,
+                    double sqrt_pi_a, double nu, const SifEstimatorSettings& set, SifEstimatorReport& rep,
+                    std::vector<bem::FrontEdgeSif>& out) {
+    for (std::size_t i = 0; i < front.size(); ++i) {
+        const FrontEdge& e = front[i];
+        bem::FrontEdgeSif r;
+        r.v0 = e.v0;
+        r.v1 = e.v1;
+        bem::front_edge_frame(cracks, e.tri, e.v0, e.v1, r.e1, r.e2, r.e3);
+        Vec3 K;
+        if (set.kind == EstimatorKind::basic) {
+            K = basic_estimate(sigma[i], r.e1, r.e2, r.e3, set.scale, sqrt_pi_a);
+        } else {
+            int choice = 0;
+            K = aligned_estimate(sigma[i], r.e1, r.e2, r.e3, nu, set.scale, sqrt_pi_a, set.compressive_factor, &choice);
+            if (choice == 1) ++rep.second_choices;
+            if (choice == 2) ++rep.compressive_choices;
+            if (choice == 3) ++rep.third_choices;
+        }
+        r.KI = K[0];
+        r.KII = K[1];
+        r.KIII = K[2];
+        out.push_back(r);
+    }
+}
+
+}  // namespace
+
+std::vector<bem::FrontEdgeSif> estimate_sifs(const bem::BemSolution& sol, const SurfaceMesh& cracks,
+                                             const SifEstimatorSettings& set, SifEstimatorReport* report,
+                                             const std::vector<char>* moving) {
+    if (!sol.surface) throw std::invalid_argument("SIF estimator: the solution has no surface");
+    if (cracks.num_triangles() == 0)
+        throw std::invalid_argument("SIF estimator: there is no crack front yet (no crack sheet); connect it where cracks exist, "
+                                    "or use sif.fronts, which waits for them");
+    const double nu = sol.surface->elastic.nu;
+    const std::vector<double> area = crack_areas(cracks);
+    const auto fronts = front_edges(cracks);
+    if (fronts.empty()) throw std::invalid_argument("SIF estimator: the crack sheets have no front");
+    for (const auto& f : fronts) {
+        const double A = area[f.front().region];
+        if (!(A > 0))
+            throw std::invalid_argument("SIF estimator: crack '" + cracks.region_name(f.front().region) +
+                                        "' has zero area; its coarse sheet needs triangles of positive area");
+    }
+    SifEstimatorReport rep;
+    FrontStresses st = front_stresses(sol, cracks, fronts, set, moving, rep);
     std::vector<bem::FrontEdgeSif> out;
     for (std::size_t f = 0; f < fronts.size(); ++f) {
-        // Edges not evaluated take the nearest evaluated edge's stress along the loop; a front
-        // without any is stopped and gets no record.
-        const std::size_t m = fronts[f].size();
-        bool any = false;
-        for (char e : evaluated[f]) any = any || e;
-        if (!any) continue;
-        for (std::size_t i = 0; i < m; ++i) {
-            if (evaluated[f][i]) continue;
-            for (std::size_t d = 1; d <= m; ++d) {
-                if (evaluated[f][(i + m - d) % m]) { sigma[f][i] = sigma[f][(i + m - d) % m]; break; }
-                if (evaluated[f][(i + d) % m]) { sigma[f][i] = sigma[f][(i + d) % m]; break; }
-            }
-        }
-        smooth_along(sigma[f], true, set.smoothing_passes);  // extract_fronts gives closed loops
+        if (!fill_unevaluated(st.sigma[f], st.evaluated[f])) continue;  // a stopped front gets no record
+        smooth_along(st.sigma[f], true, set.smoothing_passes);  // extract_fronts gives closed loops
         const double sqrt_pi_a = std::pow(M_PI * area[fronts[f].front().region], 0.25);
-        for (std::size_t i = 0; i < fronts[f].size(); ++i) {
-            const FrontEdge& e = fronts[f][i];
-            bem::FrontEdgeSif r;
-            r.v0 = e.v0;
-            r.v1 = e.v1;
-            bem::front_edge_frame(cracks, e.tri, e.v0, e.v1, r.e1, r.e2, r.e3);
-            Vec3 K;
-            if (set.kind == EstimatorKind::basic) {
-                K = basic_estimate(sigma[f][i], r.e1, r.e2, r.e3, set.scale, sqrt_pi_a);
-            } else {
-                int choice = 0;
-                K = aligned_estimate(sigma[f][i], r.e1, r.e2, r.e3, nu, set.scale, sqrt_pi_a, set.compressive_factor, &choice);
-                if (choice == 1) ++rep.second_choices;
-                if (choice == 2) ++rep.compressive_choices;
-                if (choice == 3) ++rep.third_choices;
-            }
-            r.KI = K[0];
-            r.KII = K[1];
-            r.KIII = K[2];
-            out.push_back(r);
-        }
+        estimate_front(cracks, fronts[f], st.sigma[f], sqrt_pi_a, nu, set, rep, out);
     }
     // Same order as displacement correlation: by edge (v0, v1).
     std::sort(out.begin(), out.end(), [](const bem::FrontEdgeSif& a, const bem::FrontEdgeSif& b) {

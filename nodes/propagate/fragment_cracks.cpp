@@ -258,19 +258,12 @@ MarkerState edge_marker(const Vec3& a, const Vec3& b, const Vec3& normal, double
     return m;
 }
 
-}  // namespace
+// ---- restrict_to_fragment's steps, in the order it calls them.
 
-double fragment_crack_clearance(double r_c, double r_f, const FragmentCrackSettings& settings) {
-    return settings.clearance >= 0 ? settings.clearance : std::max(r_f, 0.05 * r_c);
-}
-
-FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet& fragment, const SurfaceMesh& surface,
-                                    const FragmentCrackSettings& settings) {
-    FragmentCracks out;
-    out.state = start_fracture_state(parent.r_c, parent.r_f, parent.grids.half_width, surface.num_triangles());
+// The fragment inputs checked against the parent; returns the clearance from the surface [m].
+double checked_clearance(const FractureState& parent, const LevelSet& fragment, const SurfaceMesh& surface,
+                         const FragmentCrackSettings& settings) {
     const double r_f = parent.r_f;
-    check_parent(parent);
-    if (parent.cracks.num_triangles() == 0) return out;
     if (fragment.empty())
         throw std::invalid_argument("fragment level set is empty: pass the fragment's grid from segment.fragments");
     if (!(std::abs(fragment.voxel_size - r_f) <= 1e-9 * r_f))
@@ -285,30 +278,42 @@ FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet&
     if (!(clearance >= 0) || !std::isfinite(clearance))
         throw std::invalid_argument("fragment crack clearance must be a finite distance >= 0 m, got " +
                                     graph::format_number(clearance));
+    return clearance;
+}
 
-    // 1. The mask, then the manifold closure.
-    const SurfaceMesh& pc = parent.cracks;
-    const std::vector<bem::ElementGeometry> surf = bem::element_geometries(surface, "fragment surface");
-    const std::vector<Admission> admitted = admit_triangles(pc, fragment, surf, r_f, clearance);
+// 1. The mask (strictly admitted triangles), then its manifold closure: per parent triangle, kept or not.
+std::vector<char> kept_triangles(const SurfaceMesh& pc, const std::vector<Admission>& admitted) {
     KeptSheet sheet(pc);
     for (std::size_t t = 0; t < pc.num_triangles(); ++t)
         if (admitted[t].strict) sheet.add(t);
     sheet.close(admitted);
-    const std::vector<char>& kept = sheet.kept();
+    return sheet.kept();
+}
 
-    // 2. Renumbering: vertices and cracks in the parent's order.
-    std::vector<int> new_vertex(pc.num_vertices(), -1), new_region(parent.num_cracks(), -1);
+// Parent vertex -> fragment vertex (-1: dropped), and back.
+struct Renumbering {
+    std::vector<int> new_vertex, old_vertex;
+};
+
+// 2. The kept triangles copied into `out`, vertices and cracks in the parent's order (with the
+// crack grids of the cracks that keep a triangle), and the counts of kept and dropped triangles.
+Renumbering copy_kept_triangles(const FractureState& parent, const std::vector<char>& kept,
+                                const std::vector<Admission>& admitted, FragmentCracks& out) {
+    const SurfaceMesh& pc = parent.cracks;
+    Renumbering ren;
+    std::vector<int>& new_vertex = ren.new_vertex;
+    new_vertex.assign(pc.num_vertices(), -1);
+    std::vector<int> new_region(parent.num_cracks(), -1);
     for (std::size_t t = 0; t < pc.num_triangles(); ++t) {
         if (!kept[t]) continue;
         for (int v : pc.triangles[t]) new_vertex[v] = 0;
         new_region[pc.region_of(t)] = 0;
     }
     SurfaceMesh& cracks = out.state.cracks;
-    std::vector<int> old_vertex;
     for (std::size_t v = 0; v < pc.num_vertices(); ++v)
         if (new_vertex[v] == 0) {
-            new_vertex[v] = static_cast<int>(old_vertex.size());
-            old_vertex.push_back(static_cast<int>(v));
+            new_vertex[v] = static_cast<int>(ren.old_vertex.size());
+            ren.old_vertex.push_back(static_cast<int>(v));
             cracks.vertices.push_back(pc.vertices[v]);
         }
     for (int r = 0; r < parent.num_cracks(); ++r)
@@ -328,77 +333,132 @@ FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet&
         ++out.kept_triangles;
         if (!admitted[t].strict) ++out.ring_triangles;
     }
-    if (cracks.num_triangles() == 0) return out;  // no incomplete crack: start_fracture_state's empty state
-    out.state.grids.voxel_size = parent.grids.voxel_size;
+    return ren;
+}
 
-    // 3. Fronts: the boundary loops of the kept sheet. Where a loop is an old front edge for edge,
-    // the old front (markers, SIFs, freshness) carries over; otherwise old edges keep their markers
-    // and edges where the fragment cut the crack get stopped markers (they meet its surface).
-    std::map<Edge, std::pair<int, int>> old_edge;  // directed parent edge -> (front, edge index)
-    for (std::size_t f = 0; f < parent.fronts.size(); ++f) {
-        const CrackFront& fr = parent.fronts[f].front;
-        for (std::size_t i = 0; i < fr.num_edges(); ++i)
-            old_edge[{fr.nodes[i], fr.nodes[(i + 1) % fr.nodes.size()]}] = {static_cast<int>(f), static_cast<int>(i)};
+// 3. Fronts: the boundary loops of the kept sheet. Where a loop is an old front edge for edge,
+// the old front (markers, SIFs, freshness) carries over; otherwise old edges keep their markers
+// and edges where the fragment cut the crack get stopped markers (they meet its surface).
+class FrontCarrier {
+public:
+    FrontCarrier(const FractureState& parent, const SurfaceMesh& cracks, const Renumbering& ren)
+        : parent_(parent), cracks_(cracks), ren_(ren), n_(markers_per_edge(parent.r_c, parent.r_f)) {
+        for (std::size_t f = 0; f < parent.fronts.size(); ++f) {
+            const CrackFront& fr = parent.fronts[f].front;
+            for (std::size_t i = 0; i < fr.num_edges(); ++i)
+                old_edge_[{fr.nodes[i], fr.nodes[(i + 1) % fr.nodes.size()]}] = {static_cast<int>(f), static_cast<int>(i)};
+        }
+        for (std::size_t t = 0; t < cracks.num_triangles(); ++t)
+            for (int k = 0; k < 3; ++k)
+                edge_triangle_[{cracks.triangles[t][k], cracks.triangles[t][(k + 1) % 3]}] = static_cast<int>(t);
     }
-    std::map<Edge, int> edge_triangle;  // directed new edge -> new triangle
-    for (std::size_t t = 0; t < cracks.num_triangles(); ++t)
-        for (int k = 0; k < 3; ++k)
-            edge_triangle[{cracks.triangles[t][k], cracks.triangles[t][(k + 1) % 3]}] = static_cast<int>(t);
-    const int n = markers_per_edge(parent.r_c, r_f);
-    std::vector<std::pair<std::pair<int, int>, FrontState>> fronts;  // ((region, first old front), state)
-    for (CrackFront& loop : extract_fronts(cracks)) {
+
+    // The fronts of all loops, ordered by (crack, first old front they touch).
+    std::vector<FrontState> fronts() const {
+        std::vector<std::pair<std::pair<int, int>, FrontState>> fronts;  // ((region, first old front), state)
+        for (CrackFront& loop : extract_fronts(cracks_)) {
+            int first_old = 0;
+            FrontState fs = carry(std::move(loop), first_old);
+            fronts.push_back({{fs.front.region, first_old}, std::move(fs)});
+        }
+        std::stable_sort(fronts.begin(), fronts.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        std::vector<FrontState> out;
+        for (auto& [key, fs] : fronts) out.push_back(std::move(fs));
+        return out;
+    }
+
+private:
+    // One loop's front state; `first_old` the smallest old front it shares an edge with (else
+    // the number of old fronts).
+    FrontState carry(CrackFront loop, int& first_old) const {
         const std::size_t N = loop.nodes.size();
-        std::vector<std::pair<int, int>> hit(N, {-1, -1});
-        int first_old = static_cast<int>(parent.fronts.size());
+        std::vector<std::pair<int, int>> hit(N, {-1, -1});  // per edge: (old front, edge index) or -1
+        first_old = static_cast<int>(parent_.fronts.size());
         bool same = true;
         for (std::size_t i = 0; i < N; ++i) {
-            const auto it = old_edge.find({old_vertex[loop.nodes[i]], old_vertex[loop.nodes[(i + 1) % N]]});
-            if (it != old_edge.end()) {
+            const auto it = old_edge_.find({ren_.old_vertex[loop.nodes[i]], ren_.old_vertex[loop.nodes[(i + 1) % N]]});
+            if (it != old_edge_.end()) {
                 hit[i] = it->second;
                 first_old = std::min(first_old, it->second.first);
             }
             same = same && hit[i].first >= 0 && hit[i].first == hit[0].first;
         }
-        same = same && parent.fronts[hit[0].first].front.closed && parent.fronts[hit[0].first].front.num_edges() == N;
+        same = same && parent_.fronts[hit[0].first].front.closed && parent_.fronts[hit[0].first].front.num_edges() == N;
         FrontState fs;
         if (same) {
-            fs = parent.fronts[hit[0].first];  // unchanged: the whole front state, in its own node order
-            for (int& v : fs.front.nodes) v = new_vertex[v];
+            fs = parent_.fronts[hit[0].first];  // unchanged: the whole front state, in its own node order
+            for (int& v : fs.front.nodes) v = ren_.new_vertex[v];
             fs.front.region = loop.region;
-        } else {
-            fs.front = std::move(loop);
-            fs.fresh = false;
-            fs.markers.closed = true;
-            fs.markers.per_edge = n;
-            for (std::size_t i = 0; i < N; ++i) {
-                const int a = fs.front.nodes[i], b = fs.front.nodes[(i + 1) % N];
-                const auto [f, e] = hit[i];
-                const FrontState* old = f >= 0 ? &parent.fronts[f] : nullptr;
-                if (old && !old->fresh) {
-                    if (old->markers.per_edge != n)
-                        throw std::invalid_argument("parent fracture state: front " + std::to_string(f) + " has " +
-                                                    std::to_string(old->markers.per_edge) + " markers per edge, but r_c / r_f gives " +
-                                                    std::to_string(n));
-                    const auto& m = old->markers.markers;
-                    fs.markers.markers.insert(fs.markers.markers.end(), m.begin() + std::ptrdiff_t(e) * n,
-                                              m.begin() + std::ptrdiff_t(e + 1) * n);
-                    continue;
-                }
-                // An edge of a fresh parent front gets markers on the coarse edge as place_markers
-                // puts them (active); a new edge gets stopped ones.
-                const Vec3 normal = triangle_normal(cracks, std::size_t(edge_triangle.at({a, b})));
-                for (int k = 0; k < n; ++k)
-                    fs.markers.markers.push_back(edge_marker(cracks.vertices[a], cracks.vertices[b], normal,
-                                                             static_cast<double>(k) / n, old != nullptr));
-            }
+            return fs;
         }
-        fronts.push_back({{fs.front.region, first_old}, std::move(fs)});
+        fs.front = std::move(loop);
+        fs.fresh = false;
+        fs.markers.closed = true;
+        fs.markers.per_edge = n_;
+        for (std::size_t i = 0; i < N; ++i) add_edge_markers(fs, i, hit[i]);
+        return fs;
     }
-    std::stable_sort(fronts.begin(), fronts.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    for (auto& [key, fs] : fronts) out.state.fronts.push_back(std::move(fs));
 
-    out.state.openings.opening.assign(cracks.num_vertices(), Vec3::Zero());
-    out.state.openings.known.assign(cracks.num_vertices(), 0);
+    // The markers of edge i of a changed front: an old edge's own markers, markers on the coarse
+    // edge for an edge of a fresh parent front (active, as place_markers puts them), stopped ones
+    // on a new edge.
+    void add_edge_markers(FrontState& fs, std::size_t i, std::pair<int, int> hit) const {
+        const std::size_t N = fs.front.nodes.size();
+        const int a = fs.front.nodes[i], b = fs.front.nodes[(i + 1) % N];
+        const auto [f, e] = hit;
+        const FrontState* old = f >= 0 ? &parent_.fronts[f] : nullptr;
+        if (old && !old->fresh) {
+            if (old->markers.per_edge != n_)
+                throw std::invalid_argument("parent fracture state: front " + std::to_string(f) + " has " +
+                                            std::to_string(old->markers.per_edge) + " markers per edge, but r_c / r_f gives " +
+                                            std::to_string(n_));
+            const auto& m = old->markers.markers;
+            fs.markers.markers.insert(fs.markers.markers.end(), m.begin() + std::ptrdiff_t(e) * n_,
+                                      m.begin() + std::ptrdiff_t(e + 1) * n_);
+            return;
+        }
+        const Vec3 normal = triangle_normal(cracks_, std::size_t(edge_triangle_.at({a, b})));
+        for (int k = 0; k < n_; ++k)
+            fs.markers.markers.push_back(edge_marker(cracks_.vertices[a], cracks_.vertices[b], normal,
+                                                     static_cast<double>(k) / n_, old != nullptr));
+    }
+
+    const FractureState& parent_;
+    const SurfaceMesh& cracks_;
+    const Renumbering& ren_;
+    const int n_;
+    std::map<Edge, std::pair<int, int>> old_edge_;  // directed parent edge -> (front, edge index)
+    std::map<Edge, int> edge_triangle_;             // directed new edge -> new triangle
+};
+
+}  // namespace
+
+double fragment_crack_clearance(double r_c, double r_f, const FragmentCrackSettings& settings) {
+    return settings.clearance >= 0 ? settings.clearance : std::max(r_f, 0.05 * r_c);
+}
+
+FragmentCracks restrict_to_fragment(const FractureState& parent, const LevelSet& fragment, const SurfaceMesh& surface,
+                                    const FragmentCrackSettings& settings) {
+    FragmentCracks out;
+    out.state = start_fracture_state(parent.r_c, parent.r_f, parent.grids.half_width, surface.num_triangles());
+    check_parent(parent);
+    if (parent.cracks.num_triangles() == 0) return out;
+    const double clearance = checked_clearance(parent, fragment, surface, settings);
+
+    // 1. The mask, then the manifold closure.
+    const std::vector<bem::ElementGeometry> surf = bem::element_geometries(surface, "fragment surface");
+    const std::vector<Admission> admitted = admit_triangles(parent.cracks, fragment, surf, parent.r_f, clearance);
+    const std::vector<char> kept = kept_triangles(parent.cracks, admitted);
+
+    // 2. The kept triangles, renumbered.
+    const Renumbering ren = copy_kept_triangles(parent, kept, admitted, out);
+    if (out.state.cracks.num_triangles() == 0) return out;  // no incomplete crack: start_fracture_state's empty state
+    out.state.grids.voxel_size = parent.grids.voxel_size;
+
+    // 3. Fronts carried over or made from the kept sheet's boundary; no openings known yet.
+    for (FrontState& fs : FrontCarrier(parent, out.state.cracks, ren).fronts()) out.state.fronts.push_back(std::move(fs));
+    out.state.openings.opening.assign(out.state.cracks.num_vertices(), Vec3::Zero());
+    out.state.openings.known.assign(out.state.cracks.num_vertices(), 0);
     return out;
 }
 

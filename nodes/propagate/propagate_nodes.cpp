@@ -47,6 +47,86 @@ graph::NodeType start_node() {
     return t;
 }
 
+// propagate.fronts' run, in steps.
+
+// The step settings from the material and parameters; the object level set must be at r_f.
+propagate::StepSettings step_settings(graph::NodeContext& c, const propagate::FractureState& s, const LevelSet* object) {
+    const Material& mat = c.in<Material>("material");
+    propagate::StepSettings set;
+    set.law.E = mat.E;
+    set.law.nu = mat.nu;
+    set.law.rho = mat.rho;
+    set.substeps = static_cast<int>(c.integer("substeps"));
+    set.surface_margin = c.real("surface_margin") * s.r_f;
+    set.crack_margin = c.real("crack_margin") * s.r_f;
+    if (object && std::abs(object->voxel_size - s.r_f) > 1e-9 * s.r_f)
+        c.fail("input 'object' has voxel size " + graph::format_number(object->voxel_size) + " m but the state was started with r_f = " +
+               graph::format_number(s.r_f) + " m; use the same level set for fracture.start and propagate.fronts");
+    return set;
+}
+
+// The grids as named level sets for a .vdb file: crack0, crack1, ...
+std::vector<std::pair<std::string, LevelSet>> named_crack_grids(const std::vector<LevelSet>& cracks) {
+    std::vector<std::pair<std::string, LevelSet>> grids;
+    for (std::size_t i = 0; i < cracks.size(); ++i) grids.emplace_back("crack" + std::to_string(i), cracks[i]);
+    return grids;
+}
+
+// Called after every sub-step: Ctrl-C is noticed there (each is short; a step may have
+// thousands), and with write_substep_vdb the crack grids are written.
+propagate::SubstepObserver substep_observer(graph::NodeContext& c, int step) {
+    if (!c.boolean("write_substep_vdb")) return [&c](int, const CrackRecorder&) { c.check_cancelled(); };
+    const auto dir = c.output_dir();
+    return [dir, step, &c](int k, const CrackRecorder& rec) {
+        c.check_cancelled();
+        const CrackLevelSets g = rec.snapshot();
+        write_vdb(dir / ("cracks_step" + std::to_string(step) + "_sub" + std::to_string(k) + ".vdb"), named_crack_grids(g.cracks));
+    };
+}
+
+void count_step(graph::NodeContext& c, const propagate::FractureState& s, const propagate::StepReport& r) {
+    c.count("step", s.step);
+    c.count("fronts_propagated", r.fronts_propagated);
+    c.count("fronts_waiting", r.fronts_waiting);
+    c.count("fronts_stopped", r.fronts_stopped);
+    c.count("markers", static_cast<double>(r.markers));
+    c.count("active_markers", static_cast<double>(r.active_markers));
+    c.count("hits_left_object", static_cast<double>(r.hits_left_object));
+    c.count("hits_crossed_crack", static_cast<double>(r.hits_crossed_crack));
+    c.count("hits_self_intersection", static_cast<double>(r.hits_self_intersection));
+    c.count("elements_added", static_cast<double>(r.elements_added));
+    c.count("openings_estimated", static_cast<double>(r.openings_estimated));
+    c.count("crack_elements", static_cast<double>(s.cracks.num_triangles()));
+    c.count("voxels_written", static_cast<double>(r.voxels_written));
+    c.count("max_marker_travel_m", r.max_marker_travel);
+    c.count("simulated_time_s", r.simulated_time);
+    c.count("propagate_seconds", r.propagate_seconds);
+    c.count("record_seconds", r.record_seconds);
+    c.count("grow_seconds", r.grow_seconds);
+}
+
+void run_fronts(graph::NodeContext& c) {
+    propagate::FractureState s = c.in<propagate::FractureState>("state");
+    const ScalarField& toughness = c.in<ScalarField>("toughness");
+    if (toughness.quantity != FieldQuantity::toughness)
+        c.fail("input 'toughness' is a " + std::string(quantity_name(toughness.quantity)) +
+               " field; connect a field with quantity: toughness");
+    const LevelSet* object = c.has("object") ? &c.in<LevelSet>("object") : nullptr;
+    const propagate::StepSettings set = step_settings(c, s, object);
+    const propagate::SubstepObserver observer = substep_observer(c, s.step);
+    propagate::StepReport r;
+    try {
+        r = propagate::propagate_step(s, c.in<std::vector<bem::FrontEdgeSif>>("sifs"), toughness, object, set, observer);
+    } catch (const std::invalid_argument& e) {
+        c.fail(e.what());
+    }
+    if (c.boolean("write_vdb"))
+        write_vdb(c.output_dir() / ("cracks_step" + std::to_string(s.step) + ".vdb"), named_crack_grids(s.grids.cracks));
+    count_step(c, s, r);
+    c.out("continue", r.should_continue());
+    c.out("state", std::move(s));
+}
+
 graph::NodeType fronts_node() {
     graph::NodeType t("propagate.fronts",
                       "One BEM time step of crack propagation (ch. 4.5.2): SIFs averaged to the coarse front nodes and "
@@ -69,69 +149,7 @@ graph::NodeType fronts_node() {
                  "write the crack grids after every sub-step as cracks_step<s>_sub<k>.vdb (App. A item 19)");
     t.output<propagate::FractureState>("state", "state after the step");
     t.output<bool>("continue", "true while the step added elements, markers still moved, or new cracks wait for their first SIFs");
-    t.run([](graph::NodeContext& c) {
-        propagate::FractureState s = c.in<propagate::FractureState>("state");
-        const ScalarField& toughness = c.in<ScalarField>("toughness");
-        if (toughness.quantity != FieldQuantity::toughness)
-            c.fail("input 'toughness' is a " + std::string(quantity_name(toughness.quantity)) +
-                   " field; connect a field with quantity: toughness");
-        const Material& mat = c.in<Material>("material");
-        propagate::StepSettings set;
-        set.law.E = mat.E;
-        set.law.nu = mat.nu;
-        set.law.rho = mat.rho;
-        set.substeps = static_cast<int>(c.integer("substeps"));
-        set.surface_margin = c.real("surface_margin") * s.r_f;
-        set.crack_margin = c.real("crack_margin") * s.r_f;
-        const LevelSet* object = c.has("object") ? &c.in<LevelSet>("object") : nullptr;
-        if (object && std::abs(object->voxel_size - s.r_f) > 1e-9 * s.r_f)
-            c.fail("input 'object' has voxel size " + graph::format_number(object->voxel_size) + " m but the state was started with r_f = " +
-                   graph::format_number(s.r_f) + " m; use the same level set for fracture.start and propagate.fronts");
-        // Ctrl-C is noticed after every sub-step (each is short; a step may have thousands).
-        propagate::SubstepObserver observer = [&c](int, const CrackRecorder&) { c.check_cancelled(); };
-        const int step = s.step;
-        if (c.boolean("write_substep_vdb")) {
-            const auto dir = c.output_dir();
-            observer = [dir, step, &c](int k, const CrackRecorder& rec) {
-                c.check_cancelled();
-                const CrackLevelSets g = rec.snapshot();
-                std::vector<std::pair<std::string, LevelSet>> grids;
-                for (std::size_t i = 0; i < g.cracks.size(); ++i) grids.emplace_back("crack" + std::to_string(i), g.cracks[i]);
-                write_vdb(dir / ("cracks_step" + std::to_string(step) + "_sub" + std::to_string(k) + ".vdb"), grids);
-            };
-        }
-        propagate::StepReport r;
-        try {
-            r = propagate::propagate_step(s, c.in<std::vector<bem::FrontEdgeSif>>("sifs"), toughness, object, set, observer);
-        } catch (const std::invalid_argument& e) {
-            c.fail(e.what());
-        }
-        if (c.boolean("write_vdb")) {
-            std::vector<std::pair<std::string, LevelSet>> grids;
-            for (std::size_t i = 0; i < s.grids.cracks.size(); ++i) grids.emplace_back("crack" + std::to_string(i), s.grids.cracks[i]);
-            write_vdb(c.output_dir() / ("cracks_step" + std::to_string(s.step) + ".vdb"), grids);
-        }
-        c.count("step", s.step);
-        c.count("fronts_propagated", r.fronts_propagated);
-        c.count("fronts_waiting", r.fronts_waiting);
-        c.count("fronts_stopped", r.fronts_stopped);
-        c.count("markers", static_cast<double>(r.markers));
-        c.count("active_markers", static_cast<double>(r.active_markers));
-        c.count("hits_left_object", static_cast<double>(r.hits_left_object));
-        c.count("hits_crossed_crack", static_cast<double>(r.hits_crossed_crack));
-        c.count("hits_self_intersection", static_cast<double>(r.hits_self_intersection));
-        c.count("elements_added", static_cast<double>(r.elements_added));
-        c.count("openings_estimated", static_cast<double>(r.openings_estimated));
-        c.count("crack_elements", static_cast<double>(s.cracks.num_triangles()));
-        c.count("voxels_written", static_cast<double>(r.voxels_written));
-        c.count("max_marker_travel_m", r.max_marker_travel);
-        c.count("simulated_time_s", r.simulated_time);
-        c.count("propagate_seconds", r.propagate_seconds);
-        c.count("record_seconds", r.record_seconds);
-        c.count("grow_seconds", r.grow_seconds);
-        c.out("continue", r.should_continue());
-        c.out("state", std::move(s));
-    });
+    t.run(run_fronts);
     return t;
 }
 
