@@ -77,6 +77,10 @@ private:
     // Stable plan indices: reorder the nodes and remap every reference.
     void emit_in_order(const std::vector<int>& order, Plan& plan);
     void read_nodes(const YAML::Node& map, int body_of);
+    // read_nodes' steps: the keys of one node's mapping, and the checks of the entry as a whole
+    // (false: the node is not kept).
+    void read_node_keys(const YAML::Node& v, RawNode& n, YAML::Node& body, bool& has_body, bool& has_type);
+    bool check_node_entry(const RawNode& n, bool has_type, bool has_body, int body_of);
     void apply_override(const Override& o);
     std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node, const SourceLoc& l);
     // The type's declared parameter/input rules (NodeType::input_needed_when) for node i.
@@ -85,6 +89,11 @@ private:
     void read_params(const NodeType& t, const RawNode& r, std::map<std::string, ParamValue>& out);
     // scope: the loop whose body the reader sits in (-1 outside); -2 means the consumer's own.
     std::optional<PlanInput> resolve_source(const YAML::Node& src, int consumer, const std::string& what, int scope = -2);
+    // resolve_source's two kinds of source `text` (at l, node index s): a loop's variables, a node's output.
+    std::optional<PlanInput> resolve_loop_source(const SourceLoc& l, int consumer, const std::string& what, int scope, int s,
+                                                 const std::string& text);
+    std::optional<PlanInput> resolve_node_output(const SourceLoc& l, int consumer, const std::string& what, int scope, int s,
+                                                 const std::string& text);
     std::vector<std::string> all_names() const {
         std::vector<std::string> r;
         for (const auto& n : raw_) r.push_back(n.name);
@@ -127,56 +136,9 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
         }
         YAML::Node body;
         bool has_body = false, has_type = false;
-        for (auto f = v.begin(); f != v.end(); ++f) {
-            const std::string key = f->first.Scalar();
-            const YAML::Node val = f->second;
-            auto need_map = [&](const char* what) {
-                if (val.IsNull()) return false;
-                if (!val.IsMap()) {
-                    error(loc(val), "'" + std::string(what) + "' of node '" + n.name + "' must be a mapping",
-                          std::string(what) + ": {name: value, ...}");
-                    return false;
-                }
-                return true;
-            };
-            if (key == "type") {
-                has_type = true;
-                n.type = val.IsScalar() ? val.Scalar() : "";
-                n.type_loc = loc(val);
-            } else if (key == "params") {
-                if (need_map("params"))
-                    for (auto p = val.begin(); p != val.end(); ++p)
-                        n.params.push_back({p->first.Scalar(), p->second, loc(p->first), loc(p->second)});
-            } else if (key == "inputs") {
-                if (need_map("inputs"))
-                    for (auto p = val.begin(); p != val.end(); ++p) n.inputs.emplace_back(p->first.Scalar(), p->second);
-            } else if (key == "body") {
-                body = val;
-                has_body = true;
-            } else if (key == "next") {
-                if (need_map("next"))
-                    for (auto p = val.begin(); p != val.end(); ++p) n.next.emplace_back(p->first.Scalar(), p->second);
-            } else if (key == "while") {
-                n.while_node = val;
-                n.has_while = true;
-            } else {
-                error(loc(f->first), "unknown key '" + key + "' in node '" + n.name + "'",
-                      did_you_mean(key, {"type", "params", "inputs", "body", "next", "while"}));
-            }
-        }
-        if (!has_type) {
-            error(n.loc, "node '" + n.name + "' has no 'type:'", "add e.g. 'type: shape.box'; `crackflow nodes` lists the types");
-            continue;
-        }
+        read_node_keys(v, n, body, has_body, has_type);
+        if (!check_node_entry(n, has_type, has_body, body_of)) continue;
         const bool loop = n.type == kLoopType;
-        if (!loop && (has_body || !n.next.empty() || n.has_while)) {
-            error(n.loc, "only loop nodes may have 'body', 'next' or 'while' (node '" + n.name + "' has type '" + n.type + "')");
-        }
-        if (loop && body_of >= 0) {
-            error(n.loc, "loop '" + n.name + "' is nested inside loop '" + raw_[body_of].name + "'",
-                  "nested loops are not supported; put the inner iteration inside one node (as propagate does with sub-steps)");
-            continue;
-        }
         raw_.push_back(std::move(n));
         int self = static_cast<int>(raw_.size()) - 1;
         if (loop) {
@@ -186,6 +148,63 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
                 read_nodes(body, self);
         }
     }
+}
+
+void Loader::read_node_keys(const YAML::Node& v, RawNode& n, YAML::Node& body, bool& has_body, bool& has_type) {
+    for (auto f = v.begin(); f != v.end(); ++f) {
+        const std::string key = f->first.Scalar();
+        const YAML::Node val = f->second;
+        auto need_map = [&](const char* what) {
+            if (val.IsNull()) return false;
+            if (!val.IsMap()) {
+                error(loc(val), "'" + std::string(what) + "' of node '" + n.name + "' must be a mapping",
+                      std::string(what) + ": {name: value, ...}");
+                return false;
+            }
+            return true;
+        };
+        if (key == "type") {
+            has_type = true;
+            n.type = val.IsScalar() ? val.Scalar() : "";
+            n.type_loc = loc(val);
+        } else if (key == "params") {
+            if (need_map("params"))
+                for (auto p = val.begin(); p != val.end(); ++p)
+                    n.params.push_back({p->first.Scalar(), p->second, loc(p->first), loc(p->second)});
+        } else if (key == "inputs") {
+            if (need_map("inputs"))
+                for (auto p = val.begin(); p != val.end(); ++p) n.inputs.emplace_back(p->first.Scalar(), p->second);
+        } else if (key == "body") {
+            body = val;
+            has_body = true;
+        } else if (key == "next") {
+            if (need_map("next"))
+                for (auto p = val.begin(); p != val.end(); ++p) n.next.emplace_back(p->first.Scalar(), p->second);
+        } else if (key == "while") {
+            n.while_node = val;
+            n.has_while = true;
+        } else {
+            error(loc(f->first), "unknown key '" + key + "' in node '" + n.name + "'",
+                  did_you_mean(key, {"type", "params", "inputs", "body", "next", "while"}));
+        }
+    }
+}
+
+bool Loader::check_node_entry(const RawNode& n, bool has_type, bool has_body, int body_of) {
+    if (!has_type) {
+        error(n.loc, "node '" + n.name + "' has no 'type:'", "add e.g. 'type: shape.box'; `crackflow nodes` lists the types");
+        return false;
+    }
+    const bool loop = n.type == kLoopType;
+    if (!loop && (has_body || !n.next.empty() || n.has_while)) {
+        error(n.loc, "only loop nodes may have 'body', 'next' or 'while' (node '" + n.name + "' has type '" + n.type + "')");
+    }
+    if (loop && body_of >= 0) {
+        error(n.loc, "loop '" + n.name + "' is nested inside loop '" + raw_[body_of].name + "'",
+              "nested loops are not supported; put the inner iteration inside one node (as propagate does with sub-steps)");
+        return false;
+    }
+    return true;
 }
 
 void Loader::check_input_rules(std::size_t i) {
@@ -344,62 +363,75 @@ std::optional<PlanInput> Loader::resolve_source(const YAML::Node& src, int consu
     }
     const std::string text = src.Scalar();
     const std::string node = text.substr(0, text.find('.'));
-    const std::string rest = text.substr(text.find('.') + 1);
     int s = find_raw(node);
     if (s < 0) {
         error(l, what + " of node '" + c.name + "' refers to unknown node '" + node + "'", did_you_mean(node, all_names()));
         return std::nullopt;
     }
-    PlanInput in;
-    in.source = s;
-    const RawNode& sn = raw_[s];
     if (s == consumer) {
         error(l, what + " of node '" + c.name + "' refers to the node itself", "a node cannot consume its own output; use a loop");
         return std::nullopt;
     }
-    if (is_loop(s)) {
-        const PlanNode& lp = plan_[s];
-        const bool inside = scope == s;
-        auto var_type = [&](const std::string& var) -> std::optional<TypeId> {
-            auto it = lp.loop_var_types.find(var);
-            if (it == lp.loop_var_types.end()) {
-                error(l, what + " of node '" + c.name + "': loop '" + node + "' has no variable '" + var + "'",
-                      did_you_mean(var, lp.loop_vars));
-                return std::nullopt;
-            }
-            return it->second;
-        };
-        std::string var;
-        if (rest == "iteration") {
-            in.kind = SourceKind::LoopIteration;
-            in.type = type_id<long long>();
-        } else if (rest.rfind("each.", 0) == 0 || rest.rfind("final.", 0) == 0) {
-            const bool each = rest[0] == 'e';
-            in.kind = each ? SourceKind::LoopEach : SourceKind::LoopFinal;
-            var = rest.substr(rest.find('.') + 1);
-        } else {
-            in.kind = SourceKind::LoopVariable;
-            var = rest;
-        }
-        const bool needs_inside = in.kind == SourceKind::LoopIteration || in.kind == SourceKind::LoopVariable;
-        if (needs_inside && !inside) {
-            error(l, what + " of node '" + c.name + "' reads '" + text + "', which exists only inside the body of loop '" + node + "'",
-                  "outside the loop use " + node + ".each.VAR (every iteration) or " + node + ".final.VAR (after the last)");
+    if (is_loop(s)) return resolve_loop_source(l, consumer, what, scope, s, text);
+    return resolve_node_output(l, consumer, what, scope, s, text);
+}
+
+std::optional<PlanInput> Loader::resolve_loop_source(const SourceLoc& l, int consumer, const std::string& what, int scope,
+                                                     int s, const std::string& text) {
+    const RawNode& c = raw_[consumer];
+    const std::string node = text.substr(0, text.find('.'));
+    const std::string rest = text.substr(text.find('.') + 1);
+    PlanInput in;
+    in.source = s;
+    const PlanNode& lp = plan_[s];
+    const bool inside = scope == s;
+    auto var_type = [&](const std::string& var) -> std::optional<TypeId> {
+        auto it = lp.loop_var_types.find(var);
+        if (it == lp.loop_var_types.end()) {
+            error(l, what + " of node '" + c.name + "': loop '" + node + "' has no variable '" + var + "'",
+                  did_you_mean(var, lp.loop_vars));
             return std::nullopt;
         }
-        if (!needs_inside && inside) {
-            error(l, what + " of node '" + c.name + "' reads '" + text + "' from inside the loop's own body",
-                  "inside the body use " + node + ".VAR for the current value");
-            return std::nullopt;
-        }
-        if (in.kind != SourceKind::LoopIteration) {
-            auto t = var_type(var);
-            if (!t) return std::nullopt;
-            in.type = *t;
-        }
-        in.source_port = var;
-        return in;
+        return it->second;
+    };
+    std::string var;
+    if (rest == "iteration") {
+        in.kind = SourceKind::LoopIteration;
+        in.type = type_id<long long>();
+    } else if (rest.rfind("each.", 0) == 0 || rest.rfind("final.", 0) == 0) {
+        const bool each = rest[0] == 'e';
+        in.kind = each ? SourceKind::LoopEach : SourceKind::LoopFinal;
+        var = rest.substr(rest.find('.') + 1);
+    } else {
+        in.kind = SourceKind::LoopVariable;
+        var = rest;
     }
+    const bool needs_inside = in.kind == SourceKind::LoopIteration || in.kind == SourceKind::LoopVariable;
+    if (needs_inside && !inside) {
+        error(l, what + " of node '" + c.name + "' reads '" + text + "', which exists only inside the body of loop '" + node + "'",
+              "outside the loop use " + node + ".each.VAR (every iteration) or " + node + ".final.VAR (after the last)");
+        return std::nullopt;
+    }
+    if (!needs_inside && inside) {
+        error(l, what + " of node '" + c.name + "' reads '" + text + "' from inside the loop's own body",
+              "inside the body use " + node + ".VAR for the current value");
+        return std::nullopt;
+    }
+    if (in.kind != SourceKind::LoopIteration) {
+        auto t = var_type(var);
+        if (!t) return std::nullopt;
+        in.type = *t;
+    }
+    in.source_port = var;
+    return in;
+}
+
+std::optional<PlanInput> Loader::resolve_node_output(const SourceLoc& l, int consumer, const std::string& what, int scope,
+                                                     int s, const std::string& text) {
+    const RawNode& c = raw_[consumer];
+    const std::string node = text.substr(0, text.find('.'));
+    const std::string rest = text.substr(text.find('.') + 1);
+    const RawNode& sn = raw_[s];
     const NodeType* st = plan_[s].type;
     if (!st) return std::nullopt;  // the source had its own error
     const PortDecl* out = st->find_output(rest);
@@ -416,6 +448,8 @@ std::optional<PlanInput> Loader::resolve_source(const YAML::Node& src, int consu
               "pass the value out through the loop: add it to " + ln + ".next and read " + ln + ".each.VAR or " + ln + ".final.VAR");
         return std::nullopt;
     }
+    PlanInput in;
+    in.source = s;
     in.source_port = rest;
     in.type = out->type;
     return in;

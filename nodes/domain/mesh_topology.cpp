@@ -34,39 +34,46 @@ bool valid_indices(const SurfaceMesh& m, const Tri& f) {
     return f[0] != f[1] && f[1] != f[2] && f[2] != f[0];
 }
 
-}  // namespace
+// check_topology's steps, in the order it calls them.
 
-MeshTopologyReport check_topology(const SurfaceMesh& m, double degenerate_ratio) {
-    MeshTopologyReport r;
-    r.triangles = m.triangles.size();
-    std::vector<char> valid(m.triangles.size(), 0);
+// Triangles: valid ones (indices in range, three distinct corners) give their half-edges and
+// mark their vertices used; invalid or (nearly) zero-area ones count as degenerate.
+struct TriangleScan {
+    std::vector<char> valid, used;  // per triangle, per vertex
     std::vector<HalfEdge> half;
-    half.reserve(3 * m.triangles.size());
-    std::vector<char> used(m.vertices.size(), 0);
+};
 
+TriangleScan scan_triangles(const SurfaceMesh& m, double degenerate_ratio, MeshTopologyReport& r) {
+    TriangleScan s;
+    s.valid.assign(m.triangles.size(), 0);
+    s.half.reserve(3 * m.triangles.size());
+    s.used.assign(m.vertices.size(), 0);
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
         const Tri& f = m.triangles[t];
         if (!valid_indices(m, f)) {
             ++r.degenerate_triangles;
             continue;
         }
-        valid[t] = 1;
+        s.valid[t] = 1;
         double longest = 0;
         for (int k = 0; k < 3; ++k)
             longest = std::max(longest, (m.vertices[f[(k + 1) % 3]] - m.vertices[f[k]]).squaredNorm());
         if (triangle_normal_unnormalised(m, t).norm() <= degenerate_ratio * longest) ++r.degenerate_triangles;
         for (int k = 0; k < 3; ++k) {
             const int a = f[k], b = f[(k + 1) % 3];
-            half.push_back({std::min(a, b), std::max(a, b), a < b, t});
-            used[a] = 1;
+            s.half.push_back({std::min(a, b), std::max(a, b), a < b, t});
+            s.used[a] = 1;
         }
     }
+    return s;
+}
 
-    // Edges: group half-edges by their undirected key.
+// Edges: half-edges grouped by their undirected key, counted by use; triangles sharing an edge
+// are united into pieces.
+void count_edges(std::vector<HalfEdge>& half, DisjointSets& pieces, MeshTopologyReport& r) {
     std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
         return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.tri < y.tri;
     });
-    DisjointSets pieces(m.triangles.size());
     for (std::size_t i = 0; i < half.size();) {
         const HalfEdge& e = half[i];
         std::size_t uses = 1;
@@ -81,21 +88,23 @@ MeshTopologyReport check_topology(const SurfaceMesh& m, double degenerate_ratio)
         else if (same_direction) ++r.misoriented_edges;
         i += uses;
     }
+}
 
-    // Vertices: the triangles around a manifold vertex form one fan (a disc or, on a boundary,
-    // a half-disc); two fans touching only at the vertex make it non-manifold ("bow tie").
+// Vertices: the triangles around a manifold vertex form one fan (a disc or, on a boundary,
+// a half-disc); two fans touching only at the vertex make it non-manifold ("bow tie").
+void count_vertices(const SurfaceMesh& m, const TriangleScan& s, MeshTopologyReport& r) {
     std::vector<std::size_t> start(m.vertices.size() + 1, 0);
     for (std::size_t t = 0; t < m.triangles.size(); ++t)
-        if (valid[t])
+        if (s.valid[t])
             for (int v : m.triangles[t]) ++start[v + 1];
     std::partial_sum(start.begin(), start.end(), start.begin());
     std::vector<std::size_t> incident(start.back()), fill(start.begin(), start.end() - 1);
     for (std::size_t t = 0; t < m.triangles.size(); ++t)
-        if (valid[t])
+        if (s.valid[t])
             for (int v : m.triangles[t]) incident[fill[v]++] = t;
     std::vector<std::pair<int, std::size_t>> spokes;
     for (std::size_t v = 0; v < m.vertices.size(); ++v) {
-        if (!used[v]) {
+        if (!s.used[v]) {
             ++r.unreferenced_vertices;
             continue;
         }
@@ -114,10 +123,20 @@ MeshTopologyReport check_topology(const SurfaceMesh& m, double degenerate_ratio)
         for (std::size_t k = 0; k < n; ++k) roots += fans.find(k) == k;
         if (roots > 1) ++r.nonmanifold_vertices;
     }
+}
 
+}  // namespace
+
+MeshTopologyReport check_topology(const SurfaceMesh& m, double degenerate_ratio) {
+    MeshTopologyReport r;
+    r.triangles = m.triangles.size();
+    TriangleScan s = scan_triangles(m, degenerate_ratio, r);
+    DisjointSets pieces(m.triangles.size());
+    count_edges(s.half, pieces, r);
+    count_vertices(m, s, r);
     for (std::size_t t = 0; t < m.triangles.size(); ++t)
-        if (valid[t] && pieces.find(t) == t) ++r.components;
-    const auto faces = static_cast<long long>(std::count(valid.begin(), valid.end(), 1));
+        if (s.valid[t] && pieces.find(t) == t) ++r.components;
+    const auto faces = static_cast<long long>(std::count(s.valid.begin(), s.valid.end(), 1));
     r.euler_characteristic = static_cast<long long>(r.vertices) - static_cast<long long>(r.edges) + faces;
     return r;
 }

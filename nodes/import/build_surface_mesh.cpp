@@ -87,20 +87,15 @@ std::vector<int> weld_within(const std::vector<Vec3>& V, double tol, const std::
     return rep;
 }
 
-}  // namespace
+// build_surface_mesh's steps, in the order it calls them.
 
-ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& options) {
+void check_options_and_counts(const MeshSoup& soup, const ImportOptions& options) {
     const std::string& file = soup.file;
     if (!(options.scale > 0) || !std::isfinite(options.scale))
         throw MeshFileError(file_error(file, "scale " + format_number(options.scale) + " is not a positive number",
                                        "set scale to the length of one file unit in metres, e.g. 0.001 for millimetres"));
     if (!(options.weld_tolerance >= 0) || !std::isfinite(options.weld_tolerance))
         throw MeshFileError(file_error(file, "weld_tolerance must be >= 0", "use 0 to disable welding"));
-
-    ImportedMesh out;
-    ImportReport& rep = out.report;
-    rep.file_vertices = soup.vertices.size();
-    rep.file_faces = soup.faces.size();
     const long long nv = static_cast<long long>(soup.vertices.size());
     if (nv > INT_MAX)
         throw MeshFileError(file_error(file, "too many vertices (" + std::to_string(nv) + ")",
@@ -108,12 +103,21 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
     if (soup.faces.empty())
         throw MeshFileError(file_error(file, "no faces found (" + std::to_string(nv) + " vertices)",
                                        "the file must contain a closed triangle surface, not only points or lines"));
+}
 
-    // Index checks and fan triangulation.
+// Triangles with the file location of the face each came from.
+struct LocatedTriangles {
     std::vector<Tri> tris;
     std::vector<FileLocation> where;
-    tris.reserve(soup.faces.size());
-    where.reserve(soup.faces.size());
+};
+
+// Index checks and fan triangulation.
+LocatedTriangles fan_triangulate(const MeshSoup& soup) {
+    const std::string& file = soup.file;
+    const long long nv = static_cast<long long>(soup.vertices.size());
+    LocatedTriangles out;
+    out.tris.reserve(soup.faces.size());
+    out.where.reserve(soup.faces.size());
     const long long base = soup.index_base;
     for (const SoupFace& f : soup.faces) {
         if (f.count < 3)
@@ -133,15 +137,18 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
         }
         auto corner = [&](std::size_t k) { return static_cast<int>(soup.indices[f.first + k] - base); };
         for (std::size_t k = 1; k + 1 < f.count; ++k) {
-            tris.push_back({corner(0), corner(k), corner(k + 1)});
-            where.push_back(f.where);
+            out.tris.push_back({corner(0), corner(k), corner(k + 1)});
+            out.where.push_back(f.where);
         }
     }
+    return out;
+}
 
-    // Welding (in file units) and compaction to the referenced vertices, keeping file order.
-    const bool welding = options.weld_tolerance > 0 || soup.weld_by_position;
+// Welding (in file units) and compaction to the referenced vertices, keeping file order: the
+// kept vertices go into out.mesh, tris are renumbered to them, the report counts the rest.
+void weld_and_compact(const MeshSoup& soup, const ImportOptions& options, std::vector<Tri>& tris, ImportedMesh& out) {
     std::vector<int> weld;
-    if (options.weld_tolerance > 0) weld = weld_within(soup.vertices, options.weld_tolerance / options.scale, file);
+    if (options.weld_tolerance > 0) weld = weld_within(soup.vertices, options.weld_tolerance / options.scale, soup.file);
     else if (soup.weld_by_position) weld = weld_exact(soup.vertices);
     else {
         weld.resize(soup.vertices.size());
@@ -153,8 +160,8 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
     std::vector<int> new_index(soup.vertices.size(), -1);
     SurfaceMesh& m = out.mesh;
     for (std::size_t v = 0; v < soup.vertices.size(); ++v) {
-        if (weld[v] != static_cast<int>(v)) ++rep.welded_vertices;
-        else if (!used[v]) ++rep.unreferenced_vertices;
+        if (weld[v] != static_cast<int>(v)) ++out.report.welded_vertices;
+        else if (!used[v]) ++out.report.unreferenced_vertices;
         else {
             new_index[v] = static_cast<int>(m.vertices.size());
             m.vertices.push_back(soup.vertices[v]);
@@ -162,42 +169,63 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
     }
     for (Tri& t : tris)
         for (int& v : t) v = new_index[v];
+}
 
-    // Degenerate triangles: a repeated corner, or corners (numerically) on one line: the
-    // sine of the angle at corner 0 below 1e-14.
-    const std::vector<Vec3>& V = m.vertices;
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-        const Tri& f = tris[t];
+// Degenerate triangles: a repeated corner, or corners (numerically) on one line: the sine of the
+// angle at corner 0 below 1e-14.
+void check_degenerate(const std::vector<Vec3>& V, const LocatedTriangles& lt, const std::string& file, bool welding) {
+    for (std::size_t t = 0; t < lt.tris.size(); ++t) {
+        const Tri& f = lt.tris[t];
         if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
             const int v = f[0] == f[1] || f[0] == f[2] ? f[0] : f[1];
             throw MeshFileError(file_error(
-                file, where[t], "degenerate triangle: two of its corners are the same vertex at " + format_point(V[v]),
+                file, lt.where[t], "degenerate triangle: two of its corners are the same vertex at " + format_point(V[v]),
                 welding ? "remove the face (it may have collapsed when vertices were welded; a smaller weld_tolerance "
                           "may help)"
                         : "remove the face"));
         }
         const Vec3 e1 = V[f[1]] - V[f[0]], e2 = V[f[2]] - V[f[0]];
         if (!(e1.cross(e2).norm() > 1e-14 * e1.norm() * e2.norm()))
-            throw MeshFileError(file_error(file, where[t],
+            throw MeshFileError(file_error(file, lt.where[t],
                                            "degenerate triangle with zero area: corners " + format_point(V[f[0]]) + ", " +
                                                format_point(V[f[1]]) + ", " + format_point(V[f[2]]) + " lie on one line",
                                            "remove the face or move its vertices apart"));
     }
+}
 
-    const SurfaceCheckResult check = check_closed_surface(V, tris, file, where, options.reorient);
+// File units to metres.
+void apply_scale(double scale, const std::string& file, SurfaceMesh& m) {
+    if (scale == 1.0) return;
+    for (Vec3& p : m.vertices) {
+        const Vec3 q = p * scale;
+        if (!q.allFinite())
+            throw MeshFileError(file_error(file, "scale " + format_number(scale) + " makes vertex " +
+                                                     format_point(p) + " overflow",
+                                           "use a smaller scale"));
+        p = q;
+    }
+}
+
+}  // namespace
+
+ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& options) {
+    const std::string& file = soup.file;
+    check_options_and_counts(soup, options);
+    ImportedMesh out;
+    ImportReport& rep = out.report;
+    rep.file_vertices = soup.vertices.size();
+    rep.file_faces = soup.faces.size();
+
+    LocatedTriangles lt = fan_triangulate(soup);
+    weld_and_compact(soup, options, lt.tris, out);
+    SurfaceMesh& m = out.mesh;
+    check_degenerate(m.vertices, lt, file, options.weld_tolerance > 0 || soup.weld_by_position);
+    const SurfaceCheckResult check = check_closed_surface(m.vertices, lt.tris, file, lt.where, options.reorient);
     rep.flipped_triangles = check.flipped_triangles;
     rep.components = check.components;
 
-    if (options.scale != 1.0)
-        for (Vec3& p : m.vertices) {
-            const Vec3 q = p * options.scale;
-            if (!q.allFinite())
-                throw MeshFileError(file_error(file, "scale " + format_number(options.scale) + " makes vertex " +
-                                                         format_point(p) + " overflow",
-                                               "use a smaller scale"));
-            p = q;
-        }
-    m.triangles = std::move(tris);
+    apply_scale(options.scale, file, m);
+    m.triangles = std::move(lt.tris);
     m.region.assign(m.triangles.size(), 0);
     m.region_names = {"default"};
     return out;

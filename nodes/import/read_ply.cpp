@@ -219,74 +219,100 @@ void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor&
     }
 }
 
-}  // namespace
+// read_ply_soup's steps, in the order it calls them.
 
-MeshSoup read_ply_soup(const std::string& file, std::string_view bytes) {
-    MeshSoup soup;
-    soup.file = file;
-    TextScanner scan(bytes);
-    std::string_view line;
-    std::vector<std::string_view> tok;
-    auto header_error = [&](const std::string& what, const std::string& fix) {
-        return MeshFileError(file_error(file, FileLocation{std::max(1LL, scan.line_number()), -1}, what, fix));
-    };
-    if (!scan.next_line(line) || line != "ply")
-        throw header_error("missing 'ply' magic line", "a PLY file starts with the line ply");
+struct PlyHeader {
     Encoding enc = Encoding::Ascii;
-    bool have_format = false, ended = false;
     std::vector<Element> elements;
-    while (scan.next_line(line)) {
-        split_tokens(line, tok);
-        if (tok.empty()) continue;
-        if (tok[0] == "comment" || tok[0] == "obj_info") continue;
-        if (tok[0] == "end_header") {
-            ended = true;
-            break;
-        }
-        if (tok[0] == "format") {
-            if (tok.size() < 2) throw header_error("incomplete format line", "write e.g. 'format ascii 1.0'");
-            if (tok[1] == "ascii") enc = Encoding::Ascii;
-            else if (tok[1] == "binary_little_endian") enc = Encoding::BinaryLittle;
-            else if (tok[1] == "binary_big_endian") enc = Encoding::BinaryBig;
-            else
-                throw header_error("unknown format " + quote_token(tok[1]),
-                                   "use ascii, binary_little_endian or binary_big_endian");
-            have_format = true;
-        } else if (tok[0] == "element") {
-            Element e;
-            if (tok.size() != 3 || !parse_integer(tok[2], e.count) || e.count < 0)
-                throw header_error("malformed element line", "write 'element <name> <count>' with a count >= 0");
-            e.name = std::string(tok[1]);
-            e.header_line = scan.line_number();
-            elements.push_back(std::move(e));
-        } else if (tok[0] == "property") {
-            if (elements.empty()) throw header_error("property before any element", "declare the element first");
-            Property p;
-            bool ok;
-            if (tok.size() >= 2 && tok[1] == "list") {
-                p.is_list = true;
-                ok = tok.size() == 5 && parse_type(tok[2], p.count_type) && parse_type(tok[3], p.type) &&
-                     is_integer_type(p.count_type);
-                if (ok) p.name = std::string(tok[4]);
-            } else {
-                ok = tok.size() == 3 && parse_type(tok[1], p.type);
-                if (ok) p.name = std::string(tok[2]);
+};
+
+// The header, line by line up to end_header; errors name the current line.
+class HeaderReader {
+public:
+    HeaderReader(const std::string& file, TextScanner& scan) : file_(file), scan_(scan) {}
+
+    PlyHeader read() {
+        std::string_view line;
+        if (!scan_.next_line(line) || line != "ply") throw error("missing 'ply' magic line", "a PLY file starts with the line ply");
+        PlyHeader h;
+        bool have_format = false, ended = false;
+        while (scan_.next_line(line)) {
+            split_tokens(line, tok_);
+            if (tok_.empty()) continue;
+            if (tok_[0] == "comment" || tok_[0] == "obj_info") continue;
+            if (tok_[0] == "end_header") {
+                ended = true;
+                break;
             }
-            if (!ok)
-                throw header_error("malformed property line",
-                                   "write 'property <type> <name>' or 'property list <count type> <type> <name>' with "
-                                   "types char, uchar, short, ushort, int, uint, float, double");
-            if (elements.back().name == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index") &&
-                !is_integer_type(p.type))
-                throw header_error("face vertex indices have a floating-point type", "use an integer type such as int");
-            elements.back().props.push_back(std::move(p));
-        } else {
-            throw header_error("unknown header keyword " + quote_token(tok[0]),
-                               "the header may contain only format, element, property, comment and obj_info lines");
+            if (tok_[0] == "format") {
+                h.enc = format();
+                have_format = true;
+            } else if (tok_[0] == "element") {
+                h.elements.push_back(element());
+            } else if (tok_[0] == "property") {
+                if (h.elements.empty()) throw error("property before any element", "declare the element first");
+                h.elements.back().props.push_back(property(h.elements.back()));
+            } else {
+                throw error("unknown header keyword " + quote_token(tok_[0]),
+                            "the header may contain only format, element, property, comment and obj_info lines");
+            }
         }
+        if (!ended) throw error("header has no end_header line (truncated?)", "re-export the file");
+        if (!have_format) throw error("header has no format line", "add e.g. 'format ascii 1.0'");
+        return h;
     }
-    if (!ended) throw header_error("header has no end_header line (truncated?)", "re-export the file");
-    if (!have_format) throw header_error("header has no format line", "add e.g. 'format ascii 1.0'");
+
+private:
+    MeshFileError error(const std::string& what, const std::string& fix) const {
+        return MeshFileError(file_error(file_, FileLocation{std::max(1LL, scan_.line_number()), -1}, what, fix));
+    }
+
+    Encoding format() const {
+        if (tok_.size() < 2) throw error("incomplete format line", "write e.g. 'format ascii 1.0'");
+        if (tok_[1] == "ascii") return Encoding::Ascii;
+        if (tok_[1] == "binary_little_endian") return Encoding::BinaryLittle;
+        if (tok_[1] == "binary_big_endian") return Encoding::BinaryBig;
+        throw error("unknown format " + quote_token(tok_[1]), "use ascii, binary_little_endian or binary_big_endian");
+    }
+
+    Element element() const {
+        Element e;
+        if (tok_.size() != 3 || !parse_integer(tok_[2], e.count) || e.count < 0)
+            throw error("malformed element line", "write 'element <name> <count>' with a count >= 0");
+        e.name = std::string(tok_[1]);
+        e.header_line = scan_.line_number();
+        return e;
+    }
+
+    Property property(const Element& of) const {
+        Property p;
+        bool ok;
+        if (tok_.size() >= 2 && tok_[1] == "list") {
+            p.is_list = true;
+            ok = tok_.size() == 5 && parse_type(tok_[2], p.count_type) && parse_type(tok_[3], p.type) &&
+                 is_integer_type(p.count_type);
+            if (ok) p.name = std::string(tok_[4]);
+        } else {
+            ok = tok_.size() == 3 && parse_type(tok_[1], p.type);
+            if (ok) p.name = std::string(tok_[2]);
+        }
+        if (!ok)
+            throw error("malformed property line",
+                        "write 'property <type> <name>' or 'property list <count type> <type> <name>' with "
+                        "types char, uchar, short, ushort, int, uint, float, double");
+        if (of.name == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index") &&
+            !is_integer_type(p.type))
+            throw error("face vertex indices have a floating-point type", "use an integer type such as int");
+        return p;
+    }
+
+    const std::string& file_;
+    TextScanner& scan_;
+    std::vector<std::string_view> tok_;
+};
+
+// The elements must describe a mesh: vertices with x, y, z and faces with vertex indices.
+void check_mesh_elements(const std::string& file, const std::vector<Element>& elements) {
     bool has_xyz = false, has_faces = false;
     for (const Element& e : elements) {
         if (e.count > 0 && e.props.empty())
@@ -305,15 +331,16 @@ MeshSoup read_ply_soup(const std::string& file, std::string_view bytes) {
     if (!has_faces)
         throw MeshFileError(file_error(file, "no element 'face' with a list property vertex_indices",
                                        "the file holds no polygons (a point cloud?); export the surface with faces"));
+}
 
-    // Check the declared counts against the bytes present before reserving anything.
-    const std::size_t data_start = scan.position();
-    const long double remaining = static_cast<long double>(bytes.size() - data_start);
+// The declared counts against the bytes present, before reserving anything.
+void check_data_size(const std::string& file, const PlyHeader& h, std::size_t remaining_bytes) {
+    const long double remaining = static_cast<long double>(remaining_bytes);
     long double needed = 0;
-    for (const Element& e : elements) {
+    for (const Element& e : h.elements) {
         long double per = 0;
         for (const auto& p : e.props)
-            per += enc == Encoding::Ascii ? 2 : static_cast<long double>(type_size(p.is_list ? p.count_type : p.type));
+            per += h.enc == Encoding::Ascii ? 2 : static_cast<long double>(type_size(p.is_list ? p.count_type : p.type));
         needed += per * static_cast<long double>(e.count);
     }
     if (needed > remaining + 1)
@@ -322,17 +349,28 @@ MeshSoup read_ply_soup(const std::string& file, std::string_view bytes) {
                                                  std::to_string(static_cast<long long>(remaining)) +
                                                  " bytes of data follow (truncated?)",
                                        "re-export the file or fix the element counts"));
-    for (const Element& e : elements) {
+}
+
+}  // namespace
+
+MeshSoup read_ply_soup(const std::string& file, std::string_view bytes) {
+    MeshSoup soup;
+    soup.file = file;
+    TextScanner scan(bytes);
+    const PlyHeader h = HeaderReader(file, scan).read();
+    check_mesh_elements(file, h.elements);
+    const std::size_t data_start = scan.position();
+    check_data_size(file, h, bytes.size() - data_start);
+    for (const Element& e : h.elements) {
         if (e.name == "vertex") soup.vertices.reserve(static_cast<std::size_t>(e.count));
         if (e.name == "face") soup.faces.reserve(static_cast<std::size_t>(e.count));
     }
-
-    if (enc == Encoding::Ascii) {
+    if (h.enc == Encoding::Ascii) {
         AsciiCursor cur(file, bytes, data_start, scan.line_number());
-        read_elements(soup, elements, cur, [&] { return FileLocation{cur.peek_line(), -1}; });
+        read_elements(soup, h.elements, cur, [&] { return FileLocation{cur.peek_line(), -1}; });
     } else {
-        BinaryCursor cur(file, bytes, data_start, enc == Encoding::BinaryBig);
-        read_elements(soup, elements, cur, [&] { return FileLocation{0, static_cast<long long>(cur.position())}; });
+        BinaryCursor cur(file, bytes, data_start, h.enc == Encoding::BinaryBig);
+        read_elements(soup, h.elements, cur, [&] { return FileLocation{0, static_cast<long long>(cur.position())}; });
     }
     return soup;
 }

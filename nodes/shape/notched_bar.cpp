@@ -151,12 +151,12 @@ Profile slot_profile(const NotchedBarSpec& s, const std::vector<double>& xs, con
     return lattice.take();
 }
 
-}  // namespace
+// make_notched_bar's steps, in the order it calls them.
 
-SurfaceMesh make_notched_bar(const NotchedBarSpec& s) {
-    check(s);
+// The (x, z) profile of the bar on graded columns and rows; `ny` the cells along y. Refuses
+// resolutions that would make more than max_triangles.
+Profile bar_profile(const NotchedBarSpec& s, double merge, int& ny) {
     const double L = s.length, H = s.height, D = s.depth, w = s.notch_width, h = s.resolution;
-    const double merge = 1e-9 * std::max({L, H, D});
     const double sc = 0.5 * s.support_span, sw = 0.5 * s.strip_width;
     const bool vee = s.notch == NotchShape::V;
     // Columns through the bar's ends, the strip edges, and the notch: its apex (V) or walls (slot).
@@ -166,47 +166,71 @@ SurfaceMesh make_notched_bar(const NotchedBarSpec& s) {
     const std::vector<double> xs = graded_nodes(x_breaks, h, merge);
     const std::vector<double> zs = graded_nodes({-0.5 * H, -0.5 * H + s.notch_depth, 0.5 * H}, h, merge);
     const int n_low = cells_for(std::hypot(s.notch_depth, 0.5 * w), h), n_high = cells_for(H - s.notch_depth, h);
-    const int ny = cells_for(D, h);
+    ny = cells_for(D, h);
     const double nx = static_cast<double>(xs.size() - 1);
     const double rows = vee ? n_low + n_high : static_cast<double>(zs.size() - 1);
     const double estimate = 4 * nx * rows + 2 * ny * (2 * nx + 2 * rows + 2);
     require(estimate <= max_triangles, "parameter 'resolution' = " + metres(h) + " would make about " +
                                            std::to_string(static_cast<long long>(estimate)) + " triangles (limit " +
                                            std::to_string(static_cast<long long>(max_triangles)) + "); increase it");
+    return vee ? v_notch_profile(s, xs, n_low, n_high) : slot_profile(s, xs, zs);
+}
 
-    const Profile prof = vee ? v_notch_profile(s, xs, n_low, n_high) : slot_profile(s, xs, zs);
+// Directed boundary edges of the profile: used by one triangle only, domain on their left.
+struct ProfileBoundary {
+    std::vector<std::pair<int, int>> edges;
+    std::vector<int> is_boundary;  // per profile point
+};
 
-    // Directed boundary edges of the profile: used by one triangle only, domain on their left.
+ProfileBoundary profile_boundary(const Profile& prof) {
     std::map<std::pair<int, int>, int> uses;
     for (const Tri& t : prof.triangles)
         for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
-    std::vector<std::pair<int, int>> boundary;
-    std::vector<int> is_boundary(prof.points.size(), 0);
+    ProfileBoundary out;
+    out.is_boundary.assign(prof.points.size(), 0);
     for (const Tri& t : prof.triangles)
         for (int k = 0; k < 3; ++k) {
             const int a = t[k], b = t[(k + 1) % 3];
             if (uses[std::minmax(a, b)] == 1) {
-                boundary.push_back({a, b});
-                is_boundary[a] = is_boundary[b] = 1;
+                out.edges.push_back({a, b});
+                out.is_boundary[a] = out.is_boundary[b] = 1;
             }
         }
+    return out;
+}
 
-    enum { rest = 0, support_left = 1, support_right = 2, load = 3, notch = 4 };
-    auto classify = [&](int a, int b) {
-        const auto &pa = prof.points[a], &pb = prof.points[b];
-        const double xm = 0.5 * (pa[0] + pb[0]);
-        auto at_z = [&](double z) { return std::abs(pa[1] - z) <= merge && std::abs(pb[1] - z) <= merge; };
-        auto at_x = [&](double x) { return std::abs(pa[0] - x) <= merge && std::abs(pb[0] - x) <= merge; };
-        if (at_z(0.5 * H)) return std::abs(xm) <= sw ? load : rest;
-        if (at_z(-0.5 * H)) {
-            if (std::abs(xm + sc) <= sw) return support_left;
-            if (std::abs(xm - sc) <= sw) return support_right;
-            return rest;
-        }
-        if (at_x(-0.5 * L) || at_x(0.5 * L)) return rest;
-        return notch;
-    };
+enum BarRegion { kRest = 0, kSupportLeft = 1, kSupportRight = 2, kLoad = 3, kNotch = 4 };
 
+// The region of the wall over the profile's boundary edge (a, b): the load strip on top, the
+// support strips below, the notch's faces, the rest.
+int wall_region(const NotchedBarSpec& s, const Profile& prof, double merge, int a, int b) {
+    const double L = s.length, H = s.height;
+    const double sc = 0.5 * s.support_span, sw = 0.5 * s.strip_width;
+    const auto &pa = prof.points[a], &pb = prof.points[b];
+    const double xm = 0.5 * (pa[0] + pb[0]);
+    auto at_z = [&](double z) { return std::abs(pa[1] - z) <= merge && std::abs(pb[1] - z) <= merge; };
+    auto at_x = [&](double x) { return std::abs(pa[0] - x) <= merge && std::abs(pb[0] - x) <= merge; };
+    if (at_z(0.5 * H)) return std::abs(xm) <= sw ? kLoad : kRest;
+    if (at_z(-0.5 * H)) {
+        if (std::abs(xm + sc) <= sw) return kSupportLeft;
+        if (std::abs(xm - sc) <= sw) return kSupportRight;
+        return kRest;
+    }
+    if (at_x(-0.5 * L) || at_x(0.5 * L)) return kRest;
+    return kNotch;
+}
+
+}  // namespace
+
+SurfaceMesh make_notched_bar(const NotchedBarSpec& s) {
+    check(s);
+    const double D = s.depth;
+    const double merge = 1e-9 * std::max({s.length, s.height, D});
+    int ny = 0;
+    const Profile prof = bar_profile(s, merge, ny);
+    const ProfileBoundary boundary = profile_boundary(prof);
+
+    // The profile extruded along y.
     SurfaceMesh m;
     m.region_names = {"rest", "support_left", "support_right", "load", "notch"};
     // Layer j of the extrusion sits at y = -D/2 + D j / ny; interior layers carry only the
@@ -215,7 +239,7 @@ SurfaceMesh make_notched_bar(const NotchedBarSpec& s) {
     for (int j = 0; j <= ny; ++j) {
         const double y = j == ny ? 0.5 * D : D * (double(j) / ny - 0.5);
         for (std::size_t v = 0; v < prof.points.size(); ++v) {
-            if (j != 0 && j != ny && !is_boundary[v]) continue;
+            if (j != 0 && j != ny && !boundary.is_boundary[v]) continue;
             id[j][v] = static_cast<int>(m.vertices.size());
             m.vertices.push_back(s.centre + Vec3(prof.points[v][0], y, prof.points[v][1]));
         }
@@ -227,12 +251,12 @@ SurfaceMesh make_notched_bar(const NotchedBarSpec& s) {
     // Caps: counter-clockwise in (x, z) faces -y (x cross z = -y), so the front cap keeps the
     // winding and the back cap reverses it.
     for (const Tri& t : prof.triangles) {
-        add(id[0][t[0]], id[0][t[1]], id[0][t[2]], rest);
-        add(id[ny][t[0]], id[ny][t[2]], id[ny][t[1]], rest);
+        add(id[0][t[0]], id[0][t[1]], id[0][t[2]], kRest);
+        add(id[ny][t[0]], id[ny][t[2]], id[ny][t[1]], kRest);
     }
     // Walls: the front cap walks a -> b along a boundary edge, so the wall walks b -> a there.
-    for (const auto& [a, b] : boundary) {
-        const int region = classify(a, b);
+    for (const auto& [a, b] : boundary.edges) {
+        const int region = wall_region(s, prof, merge, a, b);
         for (int j = 0; j < ny; ++j) {
             add(id[j][b], id[j][a], id[j + 1][a], region);
             add(id[j][b], id[j + 1][a], id[j + 1][b], region);
