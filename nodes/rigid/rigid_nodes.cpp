@@ -39,16 +39,9 @@ std::filesystem::path resolve_pipeline(const graph::NodeContext& c, const std::s
     return std::filesystem::absolute(p).lexically_normal();
 }
 
-graph::NodeType body_node() {
-    graph::NodeType t(
-        "rigid.body",
-        "A rigid body of a scene (thesis ch. 7): its mesh placed by 'position' and 'rotation', its motion, contact "
-        "properties and, when 'breakable', its fracture settings. Bodies chain through 'after' into the list "
-        "rigid.scene takes, in a fixed order (Bullet's insertion order, so the scene is deterministic). A breakable "
-        "body gets its level set at r_f and a BEM mesh of 'bem_triangles' here, once; each collision above a "
-        "threshold runs the fracture pipeline 'fracture' on them (ch. 7.2). Thresholds default to finite values "
-        "from the body: the force at which the contact traction on one BEM element of mean area reaches "
-        "'threshold_fraction' of the tensile strength, and the impulse that would stop the body at 1 m/s.");
+// rigid.body's declaration and run, in steps.
+
+void declare_body_ports(graph::NodeType& t) {
     t.input<SurfaceMesh>("mesh", "closed, outward-oriented surface (material frame) [m]");
     t.optional_input<Material>("material", "material.brittle: density, E and nu, strength and toughness; required when breakable");
     t.optional_input<ScalarField>("strength", "tensile strength field [Pa] (default: homogeneous, the material's)");
@@ -58,6 +51,9 @@ graph::NodeType body_node() {
                                   "'cell_size' for a slender bar); fragments are remeshed as usual");
     t.optional_input<BodyList>("after", "the bodies inserted before this one");
     t.output<BodyList>("bodies", "'after' with this body appended");
+}
+
+void declare_body_params(graph::NodeType& t) {
     t.param_string("name", "", "body name in outputs (unique in the scene); empty: the node's name");
     t.param_choice("kind", "dynamic", {"dynamic", "kinematic", "static"},
                    "dynamic (moves under gravity and contacts), kinematic (moves at its velocity, not pushed), static");
@@ -89,90 +85,128 @@ graph::NodeType body_node() {
     t.param_string("fracture", "",
                    "breakable: the fracture pipeline a collision runs (relative to this pipeline's file); empty: the "
                    "built-in one, pipelines/impact/fracture.yaml");
-    t.run([](graph::NodeContext& c) {
-        auto b = std::make_shared<rigid::BodyDescription>();
-        b->name = c.string("name").empty() ? c.node_name() : c.string("name");
-        const std::string kind = c.string("kind");
-        b->kind = kind == "dynamic" ? rigid::BodyKind::dynamic
-                  : kind == "kinematic" ? rigid::BodyKind::kinematic : rigid::BodyKind::fixed;
-        b->collision = c.string("collision") == "mesh" ? rigid::CollisionShape::mesh : rigid::CollisionShape::hull;
-        b->mesh = c.in<SurfaceMesh>("mesh");
-        b->placement = Eigen::Isometry3d::Identity();
-        b->placement.linear() = rotation_from_degrees(vec3_param(c, "rotation"));
-        b->placement.translation() = vec3_param(c, "position");
-        b->velocity = vec3_param(c, "velocity");
-        b->angular_velocity = vec3_param(c, "angular_velocity");
-        b->friction = c.real("friction");
-        b->restitution = c.real("restitution");
-        const Material* m = c.has("material") ? &c.in<Material>("material") : nullptr;
-        b->density = c.real("density") > 0 ? c.real("density") : m ? m->rho : 0.0;
-        if (!(b->density > 0) && b->kind == rigid::BodyKind::dynamic)
-            c.fail("body '" + b->name + "': parameter 'density' [kg/m^3] is needed (or connect 'material')");
-        if (!(b->density > 0)) b->density = 1000;  // static and kinematic bodies: mass unused
-        b->E = c.real("E") > 0 ? c.real("E") : m ? m->E : 1e10;
-        b->nu = m && c.real("E") == 0 ? m->nu : c.real("nu");
-        const double signed_vol = signed_volume(b->mesh);
-        if (!(signed_vol > 0))
-            c.fail("body '" + b->name + "': the mesh encloses no positive volume; it must be closed and outward oriented");
-        if (c.boolean("breakable")) {
-            if (!m) c.fail("body '" + b->name + "': parameter 'breakable' needs the input 'material' (material.brittle)");
-            if (b->kind != rigid::BodyKind::dynamic)
-                c.fail("body '" + b->name + "': only dynamic bodies can be breakable (parameter 'kind')");
-            const double r_f = c.real("r_f");
-            if (!(r_f > 0)) c.fail("body '" + b->name + "': parameter 'r_f' [m] must be positive for a breakable body");
-            auto fs = std::make_shared<rigid::FractureSettings>();
-            fs->material = *m;
-            fs->material.rho = b->density;
-            fs->strength = c.has("strength") ? c.in<ScalarField>("strength")
-                                             : make_field(std::make_shared<HomogeneousField>(m->tensile_strength),
-                                                          FieldQuantity::strength, m->compressive_factor);
-            fs->toughness = c.has("toughness") ? c.in<ScalarField>("toughness")
-                                               : make_field(std::make_shared<HomogeneousField>(m->toughness),
-                                                            FieldQuantity::toughness, m->compressive_factor);
-            fs->r_c = c.real("r_c") > 0 ? c.real("r_c") : 20 * r_f;
-            if (!(fs->r_c > r_f)) c.fail("body '" + b->name + "': parameter 'r_c' must exceed r_f");
-            fs->bem_triangles = c.integer("bem_triangles");
-            fs->method = c.string("method");
-            fs->switch_elements = c.integer("switch_elements");
-            fs->min_fragment_fraction = c.real("min_fragment_fraction");
-            if (!c.string("fracture").empty()) fs->fracture_pipeline = resolve_pipeline(c, c.string("fracture"));
-            if (!c.run_options().registry) c.fail("no node registry to load the fracture pipeline with");
-            try {
-                rigid::load_impact_pipeline(fs->fracture_pipeline, *c.run_options().registry);  // fail early, not at impact
-            } catch (const std::invalid_argument& e) {
-                c.fail("body '" + b->name + "', parameter 'fracture': " + e.what());
-            }
-            std::shared_ptr<const SurfaceMesh> bem_mesh;
-            if (c.has("bem_mesh")) {
-                bem_mesh = c.in_ptr<SurfaceMesh>("bem_mesh");
-                const std::string problem = rigid::bem_mesh_problem(*bem_mesh, b->mesh);
-                if (!problem.empty()) c.fail("body '" + b->name + "', input 'bem_mesh': " + problem);
-            }
-            rigid::BreakableModel model;
-            try {
-                model = rigid::make_breakable_model(fs, level_set_from_mesh(b->mesh, r_f), 0, bem_mesh);
-            } catch (const std::exception& e) {
-                c.fail("body '" + b->name + "' (parameters 'r_f', 'bem_triangles'): " + e.what());
-            }
-            const double mass = model.volume * b->density;
-            const double mean_area = surface_area(*model.bem_mesh) / double(model.bem_mesh->num_triangles());
-            fs->impulse_threshold = c.real("impulse_threshold") >= 0 ? c.real("impulse_threshold") : mass * 1.0;
-            fs->force_threshold = c.real("force_threshold") >= 0 ? c.real("force_threshold")
-                                                                 : c.real("threshold_fraction") * m->tensile_strength * mean_area;
-            model.settings = fs;
-            c.count("bem_triangles", double(model.bem_mesh->num_triangles()));
-            c.count("volume_m3", model.volume);
-            c.count("impulse_threshold_Ns", fs->impulse_threshold);
-            c.count("force_threshold_N", fs->force_threshold);
-            b->breakable = std::make_shared<const rigid::BreakableModel>(std::move(model));
-        }
-        BodyList list = c.has("after") ? c.in<BodyList>("after") : BodyList{};
-        for (const auto& other : list)
-            if (other->name == b->name) c.fail("body '" + b->name + "' is already in the list ('after'); names must be unique");
-        list.push_back(b);
-        c.count("bodies", double(list.size()));
-        c.out("bodies", std::move(list));
-    });
+}
+
+// The body's kind, shape, placement, motion, contact and mass properties from the parameters
+// (and the material where a parameter is 0).
+std::shared_ptr<rigid::BodyDescription> describe_body(graph::NodeContext& c, const Material* m) {
+    auto b = std::make_shared<rigid::BodyDescription>();
+    b->name = c.string("name").empty() ? c.node_name() : c.string("name");
+    const std::string kind = c.string("kind");
+    b->kind = kind == "dynamic" ? rigid::BodyKind::dynamic
+              : kind == "kinematic" ? rigid::BodyKind::kinematic : rigid::BodyKind::fixed;
+    b->collision = c.string("collision") == "mesh" ? rigid::CollisionShape::mesh : rigid::CollisionShape::hull;
+    b->mesh = c.in<SurfaceMesh>("mesh");
+    b->placement = Eigen::Isometry3d::Identity();
+    b->placement.linear() = rotation_from_degrees(vec3_param(c, "rotation"));
+    b->placement.translation() = vec3_param(c, "position");
+    b->velocity = vec3_param(c, "velocity");
+    b->angular_velocity = vec3_param(c, "angular_velocity");
+    b->friction = c.real("friction");
+    b->restitution = c.real("restitution");
+    b->density = c.real("density") > 0 ? c.real("density") : m ? m->rho : 0.0;
+    if (!(b->density > 0) && b->kind == rigid::BodyKind::dynamic)
+        c.fail("body '" + b->name + "': parameter 'density' [kg/m^3] is needed (or connect 'material')");
+    if (!(b->density > 0)) b->density = 1000;  // static and kinematic bodies: mass unused
+    b->E = c.real("E") > 0 ? c.real("E") : m ? m->E : 1e10;
+    b->nu = m && c.real("E") == 0 ? m->nu : c.real("nu");
+    const double signed_vol = signed_volume(b->mesh);
+    if (!(signed_vol > 0))
+        c.fail("body '" + b->name + "': the mesh encloses no positive volume; it must be closed and outward oriented");
+    return b;
+}
+
+// A breakable body's fracture settings: material, fields, r_c, method and its fracture pipeline,
+// loaded here so a bad pipeline fails now, not at the first impact.
+std::shared_ptr<rigid::FractureSettings> fracture_settings(graph::NodeContext& c, const rigid::BodyDescription& b,
+                                                           const Material& m, double r_f) {
+    auto fs = std::make_shared<rigid::FractureSettings>();
+    fs->material = m;
+    fs->material.rho = b.density;
+    fs->strength = c.has("strength") ? c.in<ScalarField>("strength")
+                                     : make_field(std::make_shared<HomogeneousField>(m.tensile_strength),
+                                                  FieldQuantity::strength, m.compressive_factor);
+    fs->toughness = c.has("toughness") ? c.in<ScalarField>("toughness")
+                                       : make_field(std::make_shared<HomogeneousField>(m.toughness),
+                                                    FieldQuantity::toughness, m.compressive_factor);
+    fs->r_c = c.real("r_c") > 0 ? c.real("r_c") : 20 * r_f;
+    if (!(fs->r_c > r_f)) c.fail("body '" + b.name + "': parameter 'r_c' must exceed r_f");
+    fs->bem_triangles = c.integer("bem_triangles");
+    fs->method = c.string("method");
+    fs->switch_elements = c.integer("switch_elements");
+    fs->min_fragment_fraction = c.real("min_fragment_fraction");
+    if (!c.string("fracture").empty()) fs->fracture_pipeline = resolve_pipeline(c, c.string("fracture"));
+    if (!c.run_options().registry) c.fail("no node registry to load the fracture pipeline with");
+    try {
+        rigid::load_impact_pipeline(fs->fracture_pipeline, *c.run_options().registry);  // fail early, not at impact
+    } catch (const std::invalid_argument& e) {
+        c.fail("body '" + b.name + "', parameter 'fracture': " + e.what());
+    }
+    return fs;
+}
+
+// A breakable body's model: level set at r_f, BEM mesh (given or remeshed) and the thresholds
+// that start a fracture run (defaults from the body's mass and mean BEM element area).
+std::shared_ptr<const rigid::BreakableModel> breakable_model(graph::NodeContext& c, const rigid::BodyDescription& b,
+                                                             const Material& m, double r_f) {
+    auto fs = fracture_settings(c, b, m, r_f);
+    std::shared_ptr<const SurfaceMesh> bem_mesh;
+    if (c.has("bem_mesh")) {
+        bem_mesh = c.in_ptr<SurfaceMesh>("bem_mesh");
+        const std::string problem = rigid::bem_mesh_problem(*bem_mesh, b.mesh);
+        if (!problem.empty()) c.fail("body '" + b.name + "', input 'bem_mesh': " + problem);
+    }
+    rigid::BreakableModel model;
+    try {
+        model = rigid::make_breakable_model(fs, level_set_from_mesh(b.mesh, r_f), 0, bem_mesh);
+    } catch (const std::exception& e) {
+        c.fail("body '" + b.name + "' (parameters 'r_f', 'bem_triangles'): " + e.what());
+    }
+    const double mass = model.volume * b.density;
+    const double mean_area = surface_area(*model.bem_mesh) / double(model.bem_mesh->num_triangles());
+    fs->impulse_threshold = c.real("impulse_threshold") >= 0 ? c.real("impulse_threshold") : mass * 1.0;
+    fs->force_threshold = c.real("force_threshold") >= 0 ? c.real("force_threshold")
+                                                         : c.real("threshold_fraction") * m.tensile_strength * mean_area;
+    model.settings = fs;
+    c.count("bem_triangles", double(model.bem_mesh->num_triangles()));
+    c.count("volume_m3", model.volume);
+    c.count("impulse_threshold_Ns", fs->impulse_threshold);
+    c.count("force_threshold_N", fs->force_threshold);
+    return std::make_shared<const rigid::BreakableModel>(std::move(model));
+}
+
+void run_body(graph::NodeContext& c) {
+    const Material* m = c.has("material") ? &c.in<Material>("material") : nullptr;
+    auto b = describe_body(c, m);
+    if (c.boolean("breakable")) {
+        if (!m) c.fail("body '" + b->name + "': parameter 'breakable' needs the input 'material' (material.brittle)");
+        if (b->kind != rigid::BodyKind::dynamic)
+            c.fail("body '" + b->name + "': only dynamic bodies can be breakable (parameter 'kind')");
+        const double r_f = c.real("r_f");
+        if (!(r_f > 0)) c.fail("body '" + b->name + "': parameter 'r_f' [m] must be positive for a breakable body");
+        b->breakable = breakable_model(c, *b, *m, r_f);
+    }
+    BodyList list = c.has("after") ? c.in<BodyList>("after") : BodyList{};
+    for (const auto& other : list)
+        if (other->name == b->name) c.fail("body '" + b->name + "' is already in the list ('after'); names must be unique");
+    list.push_back(b);
+    c.count("bodies", double(list.size()));
+    c.out("bodies", std::move(list));
+}
+
+graph::NodeType body_node() {
+    graph::NodeType t(
+        "rigid.body",
+        "A rigid body of a scene (thesis ch. 7): its mesh placed by 'position' and 'rotation', its motion, contact "
+        "properties and, when 'breakable', its fracture settings. Bodies chain through 'after' into the list "
+        "rigid.scene takes, in a fixed order (Bullet's insertion order, so the scene is deterministic). A breakable "
+        "body gets its level set at r_f and a BEM mesh of 'bem_triangles' here, once; each collision above a "
+        "threshold runs the fracture pipeline 'fracture' on them (ch. 7.2). Thresholds default to finite values "
+        "from the body: the force at which the contact traction on one BEM element of mean area reaches "
+        "'threshold_fraction' of the tensile strength, and the impulse that would stop the body at 1 m/s.");
+    declare_body_ports(t);
+    declare_body_params(t);
+    t.run(run_body);
     return t;
 }
 

@@ -379,8 +379,12 @@ std::vector<Vec3> scene_piece_colours(const Animation& a) {
     return colours;
 }
 
-std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f, const SceneCamera& c,
-                                              const Vec3& ground_point, const Vec3& ground_normal, bool ground) {
+namespace {
+
+// render_scene_image's steps, in the order it calls them.
+
+void check_preview_inputs(const Animation& a, std::size_t f, const SceneCamera& c, const Vec3& ground_point,
+                          const Vec3& ground_normal, bool ground) {
     if (const std::string problem = scene_camera_problem(c); !problem.empty())
         throw std::invalid_argument("scene preview camera: " + problem);
     if (f >= a.frames.size())
@@ -391,18 +395,17 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
         if (!ground_normal.allFinite() || !(ground_normal.norm() > 0) || !std::isfinite(ground_normal.norm()))
             throw std::invalid_argument("ground_normal: zero or not finite");
     }
-    const CameraFrame cam = camera_frame(c);
-    const Vec3 light = scene_light_direction(c);
-    const AnimationFrame& frame = a.frames[f];
-    for (const auto& [index, pose] : frame.poses)
+    for (const auto& [index, pose] : a.frames[f].poses)
         if (index < 0 || std::size_t(index) >= a.pieces.size())
             throw std::invalid_argument("frame " + std::to_string(f) + ": pose of piece " + std::to_string(index) +
                                         ", out of range (the animation has " + std::to_string(a.pieces.size()) +
                                         " pieces)");
+}
 
+// 1. Every posed piece projected (in parallel, one output per piece).
+std::vector<ProjectedPiece> project_pieces(const Animation& a, std::size_t f, const CameraFrame& cam, const Vec3& light) {
+    const AnimationFrame& frame = a.frames[f];
     const std::vector<Vec3> colours = scene_piece_colours(a);
-
-    // 1. Project every piece.
     std::vector<ProjectedPiece> per_piece(frame.poses.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frame.poses.size()), [&](const auto& r) {
         Scratch scratch;
@@ -413,9 +416,12 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
     });
     for (const ProjectedPiece& p : per_piece)
         if (!p.error.empty()) throw std::invalid_argument("frame " + std::to_string(f) + ": " + p.error);
+    return per_piece;
+}
 
-    // 2. Rasterise bands of rows.
-    const int width = c.width, height = c.height, bands = (height + kBandRows - 1) / kBandRows;
+// 2. The pieces rasterised in bands of rows.
+DepthImage rasterise_pieces(const std::vector<ProjectedPiece>& per_piece, const CameraFrame& cam, int width, int height) {
+    const int bands = (height + kBandRows - 1) / kBandRows;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     DepthImage depth;
     depth.width = width;
@@ -425,40 +431,85 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
         for (int b = r.begin(); b != r.end(); ++b)
             rasterise_band(per_piece, cam, b * kBandRows, std::min(height, (b + 1) * kBandRows), depth);
     });
+    return depth;
+}
 
-    // 3. Ground or sky where no piece is nearer, then the outline.
-    const Vec3 n = ground ? Vec3(ground_normal.normalized()) : Vec3::UnitZ();
-    // In-plane axes of the checkerboard: the world x axis projected on the plane (y if the
-    // plane is nearly perpendicular to x), so a z-up ground has squares along x and y.
-    const Vec3 axis = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-    const Vec3 e1 = (axis - axis.dot(n) * n).normalized(), e2 = n.cross(e1);
-    const double plane_offset = (ground_point - cam.eye).dot(n);
-    // Haze length: the checkerboard fades into the horizon over ~15 viewing distances.
-    const double haze = 15 * std::max(1.0, (c.target - c.position).norm());
-    const Vec3 vertical = c.up.normalized();
-    auto ray = [&](int x, int y) {
-        return Vec3((cam.focal * cam.forward + (x + 0.5 - cam.cx) * cam.right - (y + 0.5 - cam.cy) * cam.up)
+// What a pixel's ray meets when no piece is nearer: the ground plane (a fading checkerboard of
+// 1 m squares) or the sky (a gradient by elevation).
+class Backdrop {
+public:
+    Backdrop(const SceneCamera& c, const CameraFrame& cam, const Vec3& ground_point, const Vec3& ground_normal, bool ground)
+        : cam_(cam), ground_(ground), ground_point_(ground_point),
+          n_(ground ? Vec3(ground_normal.normalized()) : Vec3::UnitZ()) {
+        // In-plane axes of the checkerboard: the world x axis projected on the plane (y if the
+        // plane is nearly perpendicular to x), so a z-up ground has squares along x and y.
+        const Vec3 axis = std::abs(n_.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+        e1_ = (axis - axis.dot(n_) * n_).normalized();
+        e2_ = n_.cross(e1_);
+        plane_offset_ = (ground_point - cam.eye).dot(n_);
+        // Haze length: the checkerboard fades into the horizon over ~15 viewing distances.
+        haze_ = 15 * std::max(1.0, (c.target - c.position).norm());
+        vertical_ = c.up.normalized();
+    }
+
+    Vec3 ray(int x, int y) const {
+        return Vec3((cam_.focal * cam_.forward + (x + 0.5 - cam_.cx) * cam_.right - (y + 0.5 - cam_.cy) * cam_.up)
                         .normalized());
-    };
-    auto ground_hit = [&](const Vec3& dir) {  // ray parameter [m] of the ground, -1: none
-        if (!ground) return -1.0;
-        const double t = plane_offset / dir.dot(n);
+    }
+    // Ray parameter [m] of the ground, -1: none.
+    double ground_hit(const Vec3& dir) const {
+        if (!ground_) return -1.0;
+        const double t = plane_offset_ / dir.dot(n_);
         return t > 0 && std::isfinite(t) ? t : -1.0;
-    };
-    // 3a. Where the ground is nearer than the piece found there, the pixel shows the ground.
+    }
+
+    Vec3 colour(const Vec3& dir) const {
+        if (const double t = ground_hit(dir); t > 0) {
+            const Vec3 mean_check = 0.5 * (kCheckLight + kCheckDark);
+            const Vec3 d = cam_.eye + t * dir - ground_point_;
+            // 1 m squares; parity in double (fmod is exact; no overflow far away).
+            const bool light_square = std::fmod(std::floor(d.dot(e1_)) + std::floor(d.dot(e2_)), 2.0) == 0;
+            // Contrast fades with distance and where squares shrink below ~4 pixels
+            // (gone at 2), which would alias into noise.
+            const double footprint = t / (cam_.focal * std::abs(dir.dot(n_)));  // [m/pixel]
+            const double fade = std::exp(-t / haze_);
+            const double contrast = fade * std::clamp((0.5 - footprint) / 0.25, 0.0, 1.0);
+            const Vec3 square = light_square ? kCheckLight : kCheckDark;
+            const Vec3 check = mean_check + contrast * (square - mean_check);
+            return fade * check + (1 - fade) * kHorizon;
+        }
+        const double s = dir.dot(vertical_);  // sky gradient by elevation
+        return s >= 0 ? Vec3(kHorizon + s * (kZenith - kHorizon)) : Vec3(kHorizon - s * (kNadir - kHorizon));
+    }
+
+private:
+    const CameraFrame& cam_;
+    bool ground_;
+    Vec3 ground_point_, n_, e1_, e2_, vertical_;
+    double plane_offset_ = 0, haze_ = 0;
+};
+
+// 3a. Where the ground is nearer than the piece found there, the pixel shows the ground.
+void reveal_ground(const Backdrop& backdrop, const CameraFrame& cam, int height, DepthImage& depth) {
+    const int width = depth.width;
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y != r.end(); ++y)
             for (int x = 0; x < width; ++x) {
                 const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
                 if (depth.owner[p].slot < 0) continue;
-                const Vec3 dir = ray(x, y);
-                const double t = ground_hit(dir);
+                const Vec3 dir = backdrop.ray(x, y);
+                const double t = backdrop.ground_hit(dir);
                 if (t > 0 && 1 / (t * dir.dot(cam.forward)) > depth.inv_depth[p]) depth.owner[p].slot = -1;
             }
     });
-    // 3b. Colours; the outline reads the neighbours' owners, final after 3a.
-    const Vec3 mean_check = 0.5 * (kCheckLight + kCheckDark);
-    std::vector<unsigned char> image(3 * pixels);
+}
+
+// 3b. Colours: a piece's shade, darkened on its outline (the neighbours' owners, final after
+// 3a), else the backdrop.
+std::vector<unsigned char> shade_pixels(const std::vector<ProjectedPiece>& per_piece, const DepthImage& depth,
+                                        const Backdrop& backdrop, int height) {
+    const int width = depth.width;
+    std::vector<unsigned char> image(3 * std::size_t(width) * std::size_t(height));
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y != r.end(); ++y)
             for (int x = 0; x < width; ++x) {
@@ -475,24 +526,7 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
                                       (y + 1 < height && other(p + std::size_t(width)));
                     rgb = (shade * piece.colour).cwiseMin(1.0).cwiseMax(0.0) * (edge ? kSceneOutline : 1.0);
                 } else {
-                    const Vec3 dir = ray(x, y);
-                    if (const double t = ground_hit(dir); t > 0) {
-                        const Vec3 d = cam.eye + t * dir - ground_point;
-                        // 1 m squares; parity in double (fmod is exact; no overflow far away).
-                        const bool light_square = std::fmod(std::floor(d.dot(e1)) + std::floor(d.dot(e2)), 2.0) == 0;
-                        // Contrast fades with distance and where squares shrink below ~4 pixels
-                        // (gone at 2), which would alias into noise.
-                        const double footprint = t / (cam.focal * std::abs(dir.dot(n)));  // [m/pixel]
-                        const double fade = std::exp(-t / haze);
-                        const double contrast = fade * std::clamp((0.5 - footprint) / 0.25, 0.0, 1.0);
-                        const Vec3 square = light_square ? kCheckLight : kCheckDark;
-                        const Vec3 check = mean_check + contrast * (square - mean_check);
-                        rgb = fade * check + (1 - fade) * kHorizon;
-                    } else {
-                        const double s = dir.dot(vertical);  // sky gradient by elevation
-                        rgb = s >= 0 ? Vec3(kHorizon + s * (kZenith - kHorizon))
-                                     : Vec3(kHorizon - s * (kNadir - kHorizon));
-                    }
+                    rgb = backdrop.colour(backdrop.ray(x, y));
                 }
                 for (int k = 0; k < 3; ++k)
                     image[3 * p + std::size_t(k)] =
@@ -500,6 +534,22 @@ std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f,
             }
     });
     return image;
+}
+
+}  // namespace
+
+std::vector<unsigned char> render_scene_image(const Animation& a, std::size_t f, const SceneCamera& c,
+                                              const Vec3& ground_point, const Vec3& ground_normal, bool ground) {
+    check_preview_inputs(a, f, c, ground_point, ground_normal, ground);
+    const CameraFrame cam = camera_frame(c);
+    const Vec3 light = scene_light_direction(c);
+    // 1. Project every piece. 2. Rasterise bands of rows. 3. Ground or sky where no piece is
+    // nearer, then the outline.
+    const std::vector<ProjectedPiece> per_piece = project_pieces(a, f, cam, light);
+    DepthImage depth = rasterise_pieces(per_piece, cam, c.width, c.height);
+    const Backdrop backdrop(c, cam, ground_point, ground_normal, ground);
+    reveal_ground(backdrop, cam, c.height, depth);
+    return shade_pixels(per_piece, depth, backdrop, c.height);
 }
 
 void render_scene_preview(const Animation& a, std::size_t f, const SceneCamera& c, const std::filesystem::path& png,

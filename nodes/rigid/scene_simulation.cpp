@@ -329,16 +329,72 @@ struct SceneSimulation::Impl {
         AnimationPiece anim;
         std::size_t carried = 0;  // incomplete-crack triangles it carries
     };
-    PreparedFragment prepare_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame,
-                                      const std::shared_ptr<const propagate::FractureState>& cracks) const {
-        const Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
-        const BreakableModel& model = *parent.breakable;
-        const std::shared_ptr<const FractureSettings> fs = model.settings;
+    // The volume class of a fragment (ch. 7.3): (d) large, keeps the parent's BEM mesh; (c)
+    // breakable; (b) collides as a mesh; (a) collides as its convex hull.
+    static PieceClass fragment_class(const BreakableModel& model, const Fragment& f) {
         const double V0 = model.original_volume;
         PieceClass cls = PieceClass::breakable;
         if (f.volume > 0.95 * model.volume) cls = PieceClass::large;
         else if (f.volume <= 0.005 * V0) cls = PieceClass::hull;
         else if (f.volume <= 0.02 * V0) cls = PieceClass::mesh;
+        return cls;
+    }
+
+    // A breakable fragment's model: remeshed (class (d): the parent's BEM mesh, operators and
+    // factor), with the incomplete cracks of the parent's run that it keeps. False when it is too
+    // thin to remesh at the BEM target (it then collides as a mesh and never breaks again).
+    static bool make_breakable(const BreakableModel& model, const Fragment& f, PieceClass cls,
+                               const std::shared_ptr<const propagate::FractureState>& cracks,
+                               const Eigen::Isometry3d& material_to_world, PreparedFragment& out) {
+        try {
+            BreakableModel bm = make_breakable_model(model.settings, f.grid, model.original_volume,
+                                                     cls == PieceClass::large ? model.bem_mesh : nullptr, f.volume);
+            if (cls == PieceClass::large) {  // the parent's BEM mesh, so its operators and factor too (ch. 7.3 (d))
+                bm.surface_blocks = model.surface_blocks;
+                bm.surface_factor = model.surface_factor;
+            }
+            if (cracks && cracks->cracks.num_triangles() > 0) {
+                propagate::FragmentCracks fc = propagate::restrict_to_fragment(*cracks, f.grid, *bm.bem_mesh);
+                if (fc.state.cracks.num_triangles() > 0) {
+                    out.carried = fc.state.cracks.num_triangles();
+                    // The fragment's object without the slits of the cracks it keeps (they grow from it).
+                    bm.object = fill_crack_slits(f.grid, model.object, fc.state.grids.cracks);
+                    bm.cracks = std::make_shared<const propagate::FractureState>(std::move(fc.state));
+                }
+            }
+            auto m = std::make_shared<const BreakableModel>(std::move(bm));
+            out.piece.breakable = m;
+            out.spec.collision = CollisionShape::mesh;
+            out.spec.collision_mesh = transformed(*m->bem_mesh, material_to_world);
+            return true;
+        } catch (const std::exception&) {
+            out.carried = 0;
+            return false;
+        }
+    }
+
+    // A coarse collision mesh of the fragment; false when it cannot be made (then: the hull).
+    static bool make_mesh_collider(const FractureSettings& fs, const Fragment& f, const Eigen::Isometry3d& material_to_world,
+                                   PreparedFragment& out) {
+        try {
+            const SurfaceMesh coarse = coarse_surface(
+                f.grid, static_cast<std::size_t>(fs.collision_mesh_factor * double(fs.bem_triangles)), 0);
+            out.spec.collision = CollisionShape::mesh;
+            out.spec.collision_mesh = transformed(coarse, material_to_world);
+            out.piece.contact_mesh = std::make_shared<const SurfaceMesh>(transformed(coarse, out.piece.material_to_body));
+            out.piece.contact_curvature = triangle_mean_curvature(*out.piece.contact_mesh);
+            return true;
+        } catch (const std::exception&) {
+            return false;
+        }
+    }
+
+    PreparedFragment prepare_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame,
+                                      const std::shared_ptr<const propagate::FractureState>& cracks) const {
+        const Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
+        const BreakableModel& model = *parent.breakable;
+        const std::shared_ptr<const FractureSettings> fs = model.settings;
+        PieceClass cls = fragment_class(model, f);
 
         PreparedFragment out;
         const Eigen::Isometry3d material_to_world = body_to_world(s) * parent.material_to_body;
@@ -367,44 +423,10 @@ struct SceneSimulation::Impl {
         spec.velocity = fb.motion.velocity;
         spec.angular_velocity = fb.motion.angular_velocity;
 
-        if (cls == PieceClass::large || cls == PieceClass::breakable) {
-            try {
-                BreakableModel bm =
-                    make_breakable_model(fs, f.grid, V0, cls == PieceClass::large ? model.bem_mesh : nullptr, f.volume);
-                if (cls == PieceClass::large) {  // the parent's BEM mesh, so its operators and factor too (ch. 7.3 (d))
-                    bm.surface_blocks = model.surface_blocks;
-                    bm.surface_factor = model.surface_factor;
-                }
-                if (cracks && cracks->cracks.num_triangles() > 0) {
-                    propagate::FragmentCracks fc = propagate::restrict_to_fragment(*cracks, f.grid, *bm.bem_mesh);
-                    if (fc.state.cracks.num_triangles() > 0) {
-                        out.carried = fc.state.cracks.num_triangles();
-                        // The fragment's object without the slits of the cracks it keeps (they grow from it).
-                        bm.object = fill_crack_slits(f.grid, model.object, fc.state.grids.cracks);
-                        bm.cracks = std::make_shared<const propagate::FractureState>(std::move(fc.state));
-                    }
-                }
-                auto m = std::make_shared<const BreakableModel>(std::move(bm));
-                piece.breakable = m;
-                spec.collision = CollisionShape::mesh;
-                spec.collision_mesh = transformed(*m->bem_mesh, material_to_world);
-            } catch (const std::exception&) {
-                cls = PieceClass::mesh;  // too thin to remesh at the BEM target: collides, never breaks again
-                out.carried = 0;
-            }
-        }
-        if (cls == PieceClass::mesh) {
-            try {
-                const SurfaceMesh coarse = coarse_surface(
-                    f.grid, static_cast<std::size_t>(fs->collision_mesh_factor * double(fs->bem_triangles)), 0);
-                spec.collision = CollisionShape::mesh;
-                spec.collision_mesh = transformed(coarse, material_to_world);
-                piece.contact_mesh = std::make_shared<const SurfaceMesh>(transformed(coarse, piece.material_to_body));
-                piece.contact_curvature = triangle_mean_curvature(*piece.contact_mesh);
-            } catch (const std::exception&) {
-                cls = PieceClass::hull;
-            }
-        }
+        if (cls == PieceClass::large || cls == PieceClass::breakable)
+            if (!make_breakable(model, f, cls, cracks, material_to_world, out)) cls = PieceClass::mesh;
+        if (cls == PieceClass::mesh)
+            if (!make_mesh_collider(*fs, f, material_to_world, out)) cls = PieceClass::hull;
         if (cls == PieceClass::hull) spec.collision = CollisionShape::hull;
         piece.sphere_curvature = std::cbrt(4.0 * M_PI / (3.0 * f.volume));
 
@@ -426,38 +448,18 @@ struct SceneSimulation::Impl {
         add_piece(std::move(f.piece), f.spec, std::move(f.anim));
     }
 
-    // One rigid step; fracture runs after it unless `repeat` (the repeated step of ch. 7.3).
-    void rigid_step(int frame, FrameReport& report) {
-        const std::vector<BodyState> before = world.snapshot();
-        const auto t0 = Clock::now();
-        world.step();
-        report.rigid_seconds += seconds_since(t0);
-        std::vector<Candidate> candidates = fracture_candidates(before, frame);
-        if (candidates.empty()) {
-            ++step_index;
-            return;
-        }
-        const auto t1 = Clock::now();
-        // Independent runs (one per body) run concurrently; each is deterministic by itself.
-        tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t k) {
-            const auto tk = Clock::now();
-            // A run that fails (e.g. a fragment's BEM mesh too degenerate to solve on) leaves the body
-            // whole; the failure is recorded with the run, and the scene goes on. Cancellation stops it.
-            try {
-                candidates[k].outcome = runner(candidates[k].run);
-            } catch (const graph_cancelled&) {
-                throw;
-            } catch (const std::exception& e) {
-                candidates[k].error = e.what();
-            }
-            candidates[k].seconds = seconds_since(tk);
-        });
-        report.fracture_seconds += seconds_since(t1);
-        report.fracture_runs += static_cast<int>(candidates.size());
-
+    // The bodies a step's runs broke: each with its kept fragments, the index of its run record
+    // and the run's final fracture state.
+    struct Breaks {
         std::vector<std::pair<int, std::vector<const Fragment*>>> broken;
         std::vector<std::size_t> run_of_break;  // index into runs per entry of broken
         std::vector<std::shared_ptr<const propagate::FractureState>> state_of_break;
+    };
+
+    // The runs' records (appended to `runs`) and their effect on the bodies that did not break:
+    // surface blocks and factor kept, withstood loads raised, incomplete cracks kept (ch. 7.3).
+    Breaks record_runs(std::vector<Candidate>& candidates, int frame) {
+        Breaks out;
         for (Candidate& c : candidates) {
             // The run's surface blocks and factor stay with the body (and a class (d) fragment of it).
             if (c.outcome.surface_blocks && c.outcome.surface_blocks != pieces[static_cast<std::size_t>(c.piece)].breakable->surface_blocks) {
@@ -494,9 +496,9 @@ struct SceneSimulation::Impl {
                         r.old_crack_triangles_end += state->cracks.region_of(t) < old->num_cracks() ? 1 : 0;
             }
             if (r.broke) {
-                broken.emplace_back(c.piece, std::move(kept));
-                run_of_break.push_back(runs.size());
-                state_of_break.push_back(state);
+                out.broken.emplace_back(c.piece, std::move(kept));
+                out.run_of_break.push_back(runs.size());
+                out.state_of_break.push_back(state);
             } else {
                 Piece& q = pieces[static_cast<std::size_t>(c.piece)];
                 q.withstood_impulse = std::max(q.withstood_impulse, c.loads.impulse);
@@ -512,7 +514,74 @@ struct SceneSimulation::Impl {
             }
             runs.push_back(r);
         }
-        if (broken.empty()) {
+        return out;
+    }
+
+    // The broken bodies removed and their fragments prepared (concurrently) and added, in a fixed
+    // order; the world is already back at the state `before` the step.
+    void replace_broken(const Breaks& breaks, const std::vector<BodyState>& before, int frame, FrameReport& report) {
+        struct Job {
+            std::size_t broken;      // index into breaks.broken
+            const Fragment* fragment;
+        };
+        std::vector<Job> jobs;
+        for (std::size_t b = 0; b < breaks.broken.size(); ++b)
+            for (const Fragment* f : breaks.broken[b].second) jobs.push_back({b, f});
+        std::vector<PreparedFragment> prepared(jobs.size());
+        const CancelToken cancel = CancelToken::current();  // read here: workers have no node of their own
+        tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
+            cancel.poll();
+            const CancelScope scope(cancel);  // the remesh and meshing inside poll it too
+            const int id = breaks.broken[jobs[k].broken].first;
+            prepared[k] = prepare_fragment(id, before[static_cast<std::size_t>(id)], *jobs[k].fragment, frame,
+                                           breaks.state_of_break[jobs[k].broken]);
+        });
+        for (std::size_t b = 0; b < breaks.broken.size(); ++b) {
+            const int id = breaks.broken[b].first;
+            Piece& parent = pieces[static_cast<std::size_t>(id)];
+            parent.alive = false;
+            world.remove_body(id);
+            animation[static_cast<std::size_t>(parent.animation)].last_frame = frame - 1;
+            report.breaks += 1;
+            report.new_pieces += static_cast<int>(breaks.broken[b].second.size());
+        }
+        for (std::size_t k = 0; k < jobs.size(); ++k) {
+            runs[breaks.run_of_break[jobs[k].broken]].carried_triangles += prepared[k].carried;
+            add_fragment(std::move(prepared[k]));
+        }
+    }
+
+    // One rigid step; fracture runs after it unless `repeat` (the repeated step of ch. 7.3).
+    void rigid_step(int frame, FrameReport& report) {
+        const std::vector<BodyState> before = world.snapshot();
+        const auto t0 = Clock::now();
+        world.step();
+        report.rigid_seconds += seconds_since(t0);
+        std::vector<Candidate> candidates = fracture_candidates(before, frame);
+        if (candidates.empty()) {
+            ++step_index;
+            return;
+        }
+        const auto t1 = Clock::now();
+        // Independent runs (one per body) run concurrently; each is deterministic by itself.
+        tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t k) {
+            const auto tk = Clock::now();
+            // A run that fails (e.g. a fragment's BEM mesh too degenerate to solve on) leaves the body
+            // whole; the failure is recorded with the run, and the scene goes on. Cancellation stops it.
+            try {
+                candidates[k].outcome = runner(candidates[k].run);
+            } catch (const graph_cancelled&) {
+                throw;
+            } catch (const std::exception& e) {
+                candidates[k].error = e.what();
+            }
+            candidates[k].seconds = seconds_since(tk);
+        });
+        report.fracture_seconds += seconds_since(t1);
+        report.fracture_runs += static_cast<int>(candidates.size());
+
+        Breaks breaks = record_runs(candidates, frame);
+        if (breaks.broken.empty()) {
             ++step_index;
             return;
         }
@@ -520,35 +589,7 @@ struct SceneSimulation::Impl {
         // Making the fragments' bodies (meshes, remeshing, mass properties) counts as fracture time.
         const auto t_fragments = Clock::now();
         world.restore(before);
-        struct Job {
-            std::size_t broken;      // index into broken
-            const Fragment* fragment;
-        };
-        std::vector<Job> jobs;
-        for (std::size_t b = 0; b < broken.size(); ++b)
-            for (const Fragment* f : broken[b].second) jobs.push_back({b, f});
-        std::vector<PreparedFragment> prepared(jobs.size());
-        const CancelToken cancel = CancelToken::current();  // read here: workers have no node of their own
-        tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
-            cancel.poll();
-            const CancelScope scope(cancel);  // the remesh and meshing inside poll it too
-            const int id = broken[jobs[k].broken].first;
-            prepared[k] = prepare_fragment(id, before[static_cast<std::size_t>(id)], *jobs[k].fragment, frame,
-                                           state_of_break[jobs[k].broken]);
-        });
-        for (std::size_t b = 0; b < broken.size(); ++b) {
-            const int id = broken[b].first;
-            Piece& parent = pieces[static_cast<std::size_t>(id)];
-            parent.alive = false;
-            world.remove_body(id);
-            animation[static_cast<std::size_t>(parent.animation)].last_frame = frame - 1;
-            report.breaks += 1;
-            report.new_pieces += static_cast<int>(broken[b].second.size());
-        }
-        for (std::size_t k = 0; k < jobs.size(); ++k) {
-            runs[run_of_break[jobs[k].broken]].carried_triangles += prepared[k].carried;
-            add_fragment(std::move(prepared[k]));
-        }
+        replace_broken(breaks, before, frame, report);
         report.fracture_seconds += seconds_since(t_fragments);
         const auto t2 = Clock::now();
         world.step();
@@ -557,18 +598,88 @@ struct SceneSimulation::Impl {
     }
 };
 
-SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& bodies, FractureRunner runner)
-    : settings_(settings) {
+namespace {
+
+// The constructor's steps, in the order it calls them.
+
+// Rigid steps per frame: one frame must be a whole number of them.
+int rigid_steps_per_frame(const SceneSettings& settings) {
     if (!(settings.world.time_step > 0) || !std::isfinite(settings.world.time_step))
         throw std::invalid_argument("scene: 'time_step' must be positive and finite [s]");
     if (!(settings.frame_rate > 0) || !std::isfinite(settings.frame_rate))
         throw std::invalid_argument("scene: 'frame_rate' must be positive [1/s]");
     const double steps = 1.0 / (settings.frame_rate * settings.world.time_step);
-    steps_per_frame_ = static_cast<int>(std::llround(steps));
-    if (steps_per_frame_ < 1 || std::abs(steps - steps_per_frame_) > 1e-6 * steps)
+    const int n = static_cast<int>(std::llround(steps));
+    if (n < 1 || std::abs(steps - n) > 1e-6 * steps)
         throw std::invalid_argument("scene: one frame (1 / frame_rate = " + format_number(1 / settings.frame_rate) +
                                     " s) must be a whole number of rigid steps (time_step = " +
                                     format_number(settings.world.time_step) + " s)");
+    return n;
+}
+
+// A body of the scene as a piece at frame 0: its Bullet body, contact data and animation record.
+struct InitialPiece {
+    Piece piece;
+    BodySpec spec;
+    AnimationPiece anim;
+    double smallest_extent = 0;  // of its world bounding box [m]
+};
+
+InitialPiece initial_piece(const BodyDescription& b) {
+    InitialPiece out;
+    Piece& piece = out.piece;
+    piece.dynamic = b.kind == BodyKind::dynamic;
+    piece.E = b.E;
+    piece.nu = b.nu;
+    piece.density = b.density;
+    piece.friction = b.friction;
+    piece.restitution = b.restitution;
+    piece.breakable = b.breakable;
+    const SurfaceMesh world_mesh = transformed(b.mesh, b.placement);
+    BodySpec& spec = out.spec;
+    spec.name = b.name;
+    spec.kind = b.kind;
+    spec.mesh = world_mesh;
+    spec.density = b.density;
+    spec.velocity = b.velocity;
+    spec.angular_velocity = b.angular_velocity;
+    spec.friction = b.friction;
+    spec.restitution = b.restitution;
+    spec.collision = b.collision;
+    MassProperties mp;
+    try {
+        mp = mass_properties(world_mesh, b.density);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("body '" + b.name + "': " + e.what());
+    }
+    if (b.breakable) {
+        // Mass from the level-set volume (ch. 7.2), as for the fragments it will break into.
+        const double mass = b.breakable->volume * b.density;
+        mp.inertia *= mass / mp.mass;
+        mp.principal_moments *= mass / mp.mass;
+        mp.mass = mass;
+        mp.volume = b.breakable->volume;
+        spec.mass = mp;
+    }
+    piece.material_to_body = principal_frame(mp).inverse() * b.placement;
+    piece.contact_mesh = std::make_shared<const SurfaceMesh>(transformed(b.mesh, piece.material_to_body));
+    piece.contact_curvature = triangle_mean_curvature(*piece.contact_mesh);
+    AnimationPiece& anim = out.anim;
+    anim.name = b.name;
+    anim.piece_class = PieceClass::original;
+    anim.volume = mp.volume;
+    anim.dynamic = piece.dynamic;
+    anim.rest_mesh = piece.contact_mesh;
+    anim.first_frame = 0;
+    out.smallest_extent = bounding_box(world_mesh).extent().minCoeff();
+    return out;
+}
+
+}  // namespace
+
+SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& bodies, FractureRunner runner)
+    : settings_(settings) {
+    steps_per_frame_ = rigid_steps_per_frame(settings);
     if (bodies.empty()) throw std::invalid_argument("scene: no bodies");
     impl_ = std::make_unique<Impl>(settings, std::move(runner));
     std::map<std::string, int> names;
@@ -576,53 +687,10 @@ SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& 
     for (const auto& b : bodies) {
         if (!names.emplace(b->name, 0).second)
             throw std::invalid_argument("scene: two bodies are named '" + b->name + "'; body names must be unique");
-        Piece piece;
-        piece.root = static_cast<int>(impl_->pieces.size());  // its id once added
-        piece.dynamic = b->kind == BodyKind::dynamic;
-        piece.E = b->E;
-        piece.nu = b->nu;
-        piece.density = b->density;
-        piece.friction = b->friction;
-        piece.restitution = b->restitution;
-        piece.breakable = b->breakable;
-        const SurfaceMesh world_mesh = transformed(b->mesh, b->placement);
-        BodySpec spec;
-        spec.name = b->name;
-        spec.kind = b->kind;
-        spec.mesh = world_mesh;
-        spec.density = b->density;
-        spec.velocity = b->velocity;
-        spec.angular_velocity = b->angular_velocity;
-        spec.friction = b->friction;
-        spec.restitution = b->restitution;
-        spec.collision = b->collision;
-        MassProperties mp;
-        try {
-            mp = mass_properties(world_mesh, b->density);
-        } catch (const std::invalid_argument& e) {
-            throw std::invalid_argument("body '" + b->name + "': " + e.what());
-        }
-        if (b->breakable) {
-            // Mass from the level-set volume (ch. 7.2), as for the fragments it will break into.
-            const double mass = b->breakable->volume * b->density;
-            mp.inertia *= mass / mp.mass;
-            mp.principal_moments *= mass / mp.mass;
-            mp.mass = mass;
-            mp.volume = b->breakable->volume;
-            spec.mass = mp;
-        }
-        piece.material_to_body = principal_frame(mp).inverse() * b->placement;
-        piece.contact_mesh = std::make_shared<const SurfaceMesh>(transformed(b->mesh, piece.material_to_body));
-        piece.contact_curvature = triangle_mean_curvature(*piece.contact_mesh);
-        AnimationPiece anim;
-        anim.name = b->name;
-        anim.piece_class = PieceClass::original;
-        anim.volume = mp.volume;
-        anim.dynamic = piece.dynamic;
-        anim.rest_mesh = piece.contact_mesh;
-        anim.first_frame = 0;
-        impl_->add_piece(std::move(piece), spec, std::move(anim));
-        smallest = std::min(smallest, bounding_box(world_mesh).extent().minCoeff());
+        InitialPiece p = initial_piece(*b);
+        p.piece.root = static_cast<int>(impl_->pieces.size());  // its id once added
+        impl_->add_piece(std::move(p.piece), p.spec, std::move(p.anim));
+        smallest = std::min(smallest, p.smallest_extent);
     }
     if (settings.ground) {
         const Vec3 up = -settings.world.gravity.normalized();
@@ -630,6 +698,7 @@ SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& 
         impl_->world.add_ground_plane(up, up.dot(settings.ground_point), settings.ground_friction,
                                       settings.ground_restitution);
     }
+    // No body may start inside another or the ground.
     const double depth = settings.overlap_tolerance > 0 ? settings.overlap_tolerance : 0.02 * smallest;
     const auto overlaps = impl_->world.overlaps(depth);
     if (!overlaps.empty()) {
