@@ -1,5 +1,6 @@
 // From a raw soup to a checked SurfaceMesh: index checks, fan triangulation, welding, removal
 // of unreferenced vertices, degenerate-triangle checks, then check_closed_surface.
+#include "graph/diagnostics.hpp"
 #include "nodes/import/check_closed_surface.hpp"
 #include "nodes/import/read_mesh.hpp"
 
@@ -63,7 +64,7 @@ std::vector<int> weld_within(const std::vector<Vec3>& V, double tol, const std::
     for (std::size_t v = 0; v < V.size(); ++v) {
         const Vec3 c = V[v] / tol;
         if (!(c.cwiseAbs().maxCoeff() < 1e15))
-            throw MeshFileError(file_error(file, "weld_tolerance " + format_number(tol) +
+            throw MeshFileError(file_error(file, "weld_tolerance " + graph::format_number(tol) +
                                                      " is too small for coordinates as large as " + format_point(V[v]),
                                            "use a larger weld_tolerance (or 0 to disable welding)"));
         const Key k{static_cast<long long>(std::floor(c.x())), static_cast<long long>(std::floor(c.y())),
@@ -92,7 +93,7 @@ std::vector<int> weld_within(const std::vector<Vec3>& V, double tol, const std::
 void check_options_and_counts(const MeshSoup& soup, const ImportOptions& options) {
     const std::string& file = soup.file;
     if (!(options.scale > 0) || !std::isfinite(options.scale))
-        throw MeshFileError(file_error(file, "scale " + format_number(options.scale) + " is not a positive number",
+        throw MeshFileError(file_error(file, "scale " + graph::format_number(options.scale) + " is not a positive number",
                                        "set scale to the length of one file unit in metres, e.g. 0.001 for millimetres"));
     if (!(options.weld_tolerance >= 0) || !std::isfinite(options.weld_tolerance))
         throw MeshFileError(file_error(file, "weld_tolerance must be >= 0", "use 0 to disable welding"));
@@ -199,7 +200,7 @@ void apply_scale(double scale, const std::string& file, SurfaceMesh& m) {
     for (Vec3& p : m.vertices) {
         const Vec3 q = p * scale;
         if (!q.allFinite())
-            throw MeshFileError(file_error(file, "scale " + format_number(scale) + " makes vertex " +
+            throw MeshFileError(file_error(file, "scale " + graph::format_number(scale) + " makes vertex " +
                                                      format_point(p) + " overflow",
                                            "use a smaller scale"));
         p = q;

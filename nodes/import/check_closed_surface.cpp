@@ -1,5 +1,7 @@
 #include "nodes/import/check_closed_surface.hpp"
 
+#include "graph/diagnostics.hpp"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -250,7 +252,7 @@ public:
             if (!(std::abs(volume[c]) > 1e-12 * size * size * size))
                 throw MeshFileError(loc.error(t0,
                                               "the closed shell containing this triangle encloses no volume (signed volume " +
-                                                  format_number(volume[c]) + " cubic file units; a doubled flat sheet?)",
+                                                  graph::format_number(volume[c]) + " cubic file units; a doubled flat sheet?)",
                                               "remove the shell or give it thickness"));
             const bool cavity = depth[c] % 2 == 1;
             if ((volume[c] > 0) == !cavity) continue;
@@ -265,13 +267,13 @@ public:
                 continue;
             }
             std::string what =
-                nc == 1 ? "the surface is inside-out: its normals point inwards (signed volume " + format_number(volume[c]) +
+                nc == 1 ? "the surface is inside-out: its normals point inwards (signed volume " + graph::format_number(volume[c]) +
                               " cubic file units, should be positive)"
                 : cavity ? "the closed shell containing this triangle lies inside " + std::to_string(depth[c]) +
                                " other shell(s), so it bounds a cavity and its normals should point into the cavity, but they "
                                "point outwards"
                          : "the closed shell containing this triangle is inside-out: its normals point inwards (signed "
-                           "volume " + format_number(volume[c]) + " cubic file units, should be positive)";
+                           "volume " + graph::format_number(volume[c]) + " cubic file units, should be positive)";
             throw MeshFileError(loc.error(t0, what, "set reorient: true to flip it, or flip its normals in your modelling tool"));
         }
     }

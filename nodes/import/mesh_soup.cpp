@@ -1,6 +1,6 @@
 #include "nodes/import/mesh_soup.hpp"
 
-#include <sstream>
+#include "graph/diagnostics.hpp"
 
 namespace cf {
 
@@ -31,18 +31,8 @@ std::string quote_token(std::string_view token) {
     return r + "'";
 }
 
-std::string format_number(double v) {
-    std::ostringstream s;
-    s.precision(6);
-    s << v;
-    return s.str();
-}
-
 std::string format_point(const Vec3& p) {
-    std::ostringstream s;
-    s.precision(10);
-    s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-    return s.str();
+    return "(" + graph::format_number(p.x()) + ", " + graph::format_number(p.y()) + ", " + graph::format_number(p.z()) + ")";
 }
 
 }  // namespace cf

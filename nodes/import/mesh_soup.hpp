@@ -49,10 +49,8 @@ std::string file_error(const std::string& file, const std::string& what, const s
 // A token from the file in single quotes, safe to print: control and non-ASCII bytes as \xNN,
 // cut to 40 characters.
 std::string quote_token(std::string_view token);
-// A number with 6 significant digits, e.g. "-0.333333" or "1.5e-07".
-std::string format_number(double v);
-
-// A point as "(x, y, z)" with enough digits to find it in the file.
+// A point as "(x, y, z)", each coordinate as graph::format_number prints it (the shortest text
+// that reads back as the same double), so it can be found in the file.
 std::string format_point(const Vec3& p);
 
 }  // namespace cf

@@ -18,7 +18,6 @@
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <sstream>
 #include <limits>
 #include <stdexcept>
 
@@ -50,13 +49,6 @@ SurfaceMesh transformed(const SurfaceMesh& m, const Eigen::Isometry3d& T) {
     SurfaceMesh out = m;
     for (Vec3& v : out.vertices) v = T * v;
     return out;
-}
-
-std::string format_number(double x) {
-    std::ostringstream os;
-    os.precision(6);
-    os << x;
-    return os.str();
 }
 
 }  // namespace
@@ -611,9 +603,9 @@ int rigid_steps_per_frame(const SceneSettings& settings) {
     const double steps = 1.0 / (settings.frame_rate * settings.world.time_step);
     const int n = static_cast<int>(std::llround(steps));
     if (n < 1 || std::abs(steps - n) > 1e-6 * steps)
-        throw std::invalid_argument("scene: one frame (1 / frame_rate = " + format_number(1 / settings.frame_rate) +
+        throw std::invalid_argument("scene: one frame (1 / frame_rate = " + graph::format_number(1 / settings.frame_rate) +
                                     " s) must be a whole number of rigid steps (time_step = " +
-                                    format_number(settings.world.time_step) + " s)");
+                                    graph::format_number(settings.world.time_step) + " s)");
     return n;
 }
 
@@ -704,7 +696,7 @@ SceneSimulation::SceneSimulation(const SceneSettings& settings, const BodyList& 
     if (!overlaps.empty()) {
         auto name = [&](int id) { return id < 0 ? std::string("the ground") : "body '" + impl_->animation[static_cast<std::size_t>(id)].name + "'"; };
         throw std::invalid_argument("scene: " + name(overlaps.front().first) + " starts inside " +
-                                    name(overlaps.front().second) + " (deeper than " + format_number(depth) +
+                                    name(overlaps.front().second) + " (deeper than " + graph::format_number(depth) +
                                     " m); move them apart with 'position'");
     }
 }

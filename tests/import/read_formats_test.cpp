@@ -162,6 +162,19 @@ TEST(ReadFormats, ScaleConvertsFileUnitsToMetres) {
     EXPECT_NEAR(signed_volume(m), 1e-9, 1e-24);
 }
 
+TEST(ReadFormats, NumbersInMessagesKeepEveryDigit) {
+    // Messages print numbers through graph::format_number: six significant digits would show
+    // the scale as -1.23457 and ten the vertex as (0.1234567891, 0, 0).
+    auto dir = fresh_dir("digits");
+    ImportOptions o;
+    o.scale = -1.2345678;
+    EXPECT_TRUE(cf::testing::throws<MeshFileError>([&] { read_mesh(write_file(dir / "cube.obj", cube_obj()), o); },
+                                                   {"scale -1.2345678 is not a positive number"}));
+    const auto path = write_file(dir / "repeated.obj", "v 0.1234567891234 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n");
+    EXPECT_TRUE(cf::testing::throws<MeshFileError>(
+        [&] { read_mesh(path); }, {"two of its corners are the same vertex at (0.1234567891234, 0, 0)"}));
+}
+
 TEST(ReadFormats, PolygonsAreFanTriangulated) {
     // A hexagonal prism: two hexagons and six quads -> 2*4 + 6*2 = 20 triangles.
     std::string obj;

@@ -184,6 +184,14 @@ TEST(SceneInputs, AFrameOfPartialStepsIsRejected) {
     EXPECT_NE(e.find("whole number of rigid steps"), std::string::npos) << e;
 }
 
+TEST(SceneInputs, FrameAndStepLengthsPrintEveryDigit) {
+    // Six significant digits would print the time step as 0.00123457.
+    const std::string e =
+        run_scene_text(scene_with("{position: [0, 0, 1]}", "", "{time_step: 0.0012345678, frame_rate: 50}"), "digits");
+    EXPECT_NE(e.find("(1 / frame_rate = 0.02 s)"), std::string::npos) << e;
+    EXPECT_NE(e.find("(time_step = 0.0012345678 s)"), std::string::npos) << e;
+}
+
 TEST(SceneInputs, ABodyStartingInsideAnotherIsNamed) {
     const std::string other =
         "  other: {type: rigid.body, inputs: {mesh: mesh.mesh, after: box.bodies}, params: {density: 1000, position: [0.05, 0, 1]}}\n";
