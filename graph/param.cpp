@@ -73,7 +73,7 @@ std::string ParamDecl::check(const ParamValue& v) const {
             return in_range(std::get<double>(v));
         case ParamKind::String:
             if (!std::holds_alternative<std::string>(v)) return "expects a string";
-            return "";
+            return text_check ? text_check(std::get<std::string>(v)) : "";
         case ParamKind::Choice: {
             if (!std::holds_alternative<std::string>(v)) return "expects a string, " + describe_range();
             const auto& s = std::get<std::string>(v);

@@ -2,6 +2,7 @@
 // Parameter declarations: the data from which YAML validation, defaults, `crackflow nodes`,
 // docs/nodes.md and error messages all come.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <variant>
@@ -26,6 +27,9 @@ struct ParamDecl {
     std::vector<std::string> choices;          // for Choice
     std::optional<std::size_t> list_size;      // for RealList with a fixed length
     bool output_file = false;                  // names a file the node writes (checked by validate)
+    // For String parameters with a syntax of their own (e.g. boundary conditions): returns why the
+    // text is not acceptable, empty when it is. Run by check(), so `validate` reports it at FILE:LINE.
+    std::function<std::string(const std::string&)> text_check;
 
     // Builder-style refinements, chained after NodeType::param_*.
     ParamDecl& with_unit(std::string u) { unit = std::move(u); return *this; }
@@ -40,6 +44,7 @@ struct ParamDecl {
     // refuse absolute paths (unless allowed), paths leaving --out, report.json and two nodes
     // naming the same file (graph/output_paths.hpp).
     ParamDecl& writes_file() { output_file = true; return *this; }
+    ParamDecl& checked_by(std::function<std::string(const std::string&)> f) { text_check = std::move(f); return *this; }
 
     bool is_required() const { return !default_value.has_value(); }
     // Human-readable allowed range, e.g. "(0, 0.5)" or "one of: obj, ply".

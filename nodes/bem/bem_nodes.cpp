@@ -156,8 +156,18 @@ graph::NodeType solve_node() {
                       "when connected they replace the parameter 'boundary_conditions'");
     t.output<bem::BemSolution>("solution", "nodal displacements [m], element tractions [Pa], crack opening [m]");
     t.param_string("boundary_conditions", "*: traction 0 0 0",
-                   "per region 'name: displacement x y z' [m] or 'name: traction x y z' [Pa], ';'-separated; '*' covers "
-                   "every region not named, e.g. 'z_max: traction 0 0 1e6; z_min: displacement 0 0 0; *: traction 0 0 0'");
+                   "per region 'name: displacement x y z' [m], 'name: traction x y z' [Pa] and/or 'name: pressure p' [Pa] "
+                   "(traction -p n on each element, n its outward normal: p > 0 pushes into the body; adds to a traction "
+                   "on the same region, an error on a displacement region), ';'-separated; '*' covers every region not "
+                   "named, e.g. 'z_max: traction 0 0 1e6; z_min: displacement 0 0 0; *: traction 0 0 0'")
+        .checked_by([](const std::string& text) -> std::string {
+            try {
+                bem::parse_boundary_conditions(text);
+            } catch (const std::invalid_argument& e) {
+                return e.what();
+            }
+            return "";
+        });
     t.param_real("crack_pressure", 0, "Pa", "pressure on both faces of every crack (0: traction-free)");
     t.param_real("balance_tolerance", 1e-3, "", "pure Neumann: largest accepted relative net force/torque of the loads")
         .above(0);

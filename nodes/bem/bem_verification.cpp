@@ -135,6 +135,36 @@ VerificationResult sphere_radial_traction() {
                                  " (exact u_r = 0.4)");
 }
 
+// A solid sphere under uniform external pressure p (a PMMA ball of radius 0.1 m at 2 MPa, SI
+// units): sigma = -p I everywhere, u = -p (1 - 2 nu) / E x. The load is the boundary condition
+// 'pressure p', i.e. -p n on each facet with its own normal, which a faceted sphere carries exactly
+// (a uniform stress is a P0 traction), so the bar is tight. Pure Neumann: the regularised solve
+// of eq. 7.4; the exact field has no rigid part (sum of u and of x cross u vanish).
+VerificationResult pressure_sphere() {
+    Material mat;
+    mat.E = 3.1e9;
+    mat.nu = 0.327;
+    const double R = 0.1, p = 2e6;
+    const SurfaceMesh m = bem_icosphere_mesh(2, R);
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(m, mat, opt);
+    const auto sol = solve_sgbem(o, nullptr, resolve(parse_boundary_conditions("*: pressure 2e6"), m), {}, nullptr);
+    double worst = 0, worst_tangential = 0;
+    for (std::size_t v = 0; v < m.num_vertices(); ++v) {
+        const Vec3& x = m.vertices[v];
+        const double exact = -p * x.norm() * (1 - 2 * mat.nu) / mat.E;
+        const double ur = sol->displacement[v].dot(x.normalized());
+        worst = std::max(worst, std::abs(ur - exact) / std::abs(exact));
+        worst_tangential =
+            std::max(worst_tangential, (sol->displacement[v] - ur * x.normalized()).norm() / std::abs(exact));
+    }
+    return result(std::max(worst, worst_tangential), 1e-3,
+                  "icosphere 320 triangles, R 0.1 m, E 3.1e9 Pa, nu 0.327, '*: pressure 2e6' (pure Neumann): worst "
+                  "relative error of u_r " + fmt(worst) + ", worst tangential |u_t| / |u_r| " + fmt(worst_tangential) +
+                      " (exact u_r = -p r (1 - 2 nu) / E = " + fmt(-p * R * (1 - 2 * mat.nu) / mat.E) + " m)");
+}
+
 }  // namespace
 
 PennyRun run_penny_crack(int rings, int cube_m, double grade, bool tip_elements, double side) {
@@ -399,6 +429,10 @@ void add_bem_verification_cases(std::vector<VerificationCase>& cases) {
     cases.push_back({"cube_tension_mixed", "uniaxial tension of a cube, clamped bottom, patch test (case 2)", cube_tension_mixed});
     cases.push_back({"sphere_radial_traction", "sphere under radial face-normal traction, patch test (case 3)",
                      sphere_radial_traction});
+    cases.push_back({"pressure_sphere",
+                     "solid sphere under uniform pressure: u_r = -p r (1 - 2 nu) / E from the 'pressure' boundary condition "
+                     "(issue 13)",
+                     pressure_sphere});
     cases.push_back({"sphere_true_normals_convergence",
                      "sphere under radial traction with true normals: O(h^2) convergence of u over 80, 320, 1280 triangles",
                      sphere_true_normals_convergence});

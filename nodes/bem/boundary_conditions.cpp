@@ -1,5 +1,6 @@
 #include "nodes/bem/boundary_conditions.hpp"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,7 +19,10 @@ BoundaryConditions parse_boundary_conditions(const std::string& text) {
     BoundaryConditions bc;
     std::stringstream all(text);
     std::string clause;
-    const std::string form = "expected '<region>: displacement|traction x y z' (or '*: ...' for all other regions)";
+    const std::string form = "expected '<region>: displacement|traction x y z' or '<region>: pressure p' (or '*: ...' for "
+                             "all other regions)";
+    // Which clauses a region had: a traction/displacement and a pressure may share a region.
+    std::map<std::string, std::pair<bool, bool>> seen;  // name -> (vector clause, pressure clause)
     while (std::getline(all, clause, ';')) {
         clause = trim(clause);
         if (clause.empty()) continue;
@@ -29,23 +33,42 @@ BoundaryConditions parse_boundary_conditions(const std::string& text) {
         std::istringstream rest(clause.substr(colon + 1));
         std::string kind;
         rest >> kind;
-        RegionCondition rc;
-        if (kind == "displacement") rc.kind = RegionCondition::Kind::displacement;
-        else if (kind == "traction") rc.kind = RegionCondition::Kind::traction;
-        else throw std::invalid_argument("boundary condition '" + clause + "': unknown kind '" + kind + "'; " + form);
-        double v[3];
-        for (double& x : v)
-            if (!(rest >> x)) throw std::invalid_argument("boundary condition '" + clause + "': needs three numbers; " + form);
+        const bool is_pressure = kind == "pressure";
+        RegionCondition::Kind k = RegionCondition::Kind::traction;
+        if (kind == "displacement") k = RegionCondition::Kind::displacement;
+        else if (kind != "traction" && !is_pressure)
+            throw std::invalid_argument("boundary condition '" + clause + "': unknown kind '" + kind + "'; " + form);
+        double v[3] = {0, 0, 0};
+        for (int i = 0; i < (is_pressure ? 1 : 3); ++i)
+            if (!(rest >> v[i]) || !std::isfinite(v[i]))
+                throw std::invalid_argument("boundary condition '" + clause + "': needs " +
+                                            (is_pressure ? "one finite number (the pressure in Pa)" : "three finite numbers") +
+                                            "; " + form);
         std::string extra;
         if (rest >> extra) throw std::invalid_argument("boundary condition '" + clause + "': unexpected '" + extra + "'; " + form);
-        rc.value = Vec3(v[0], v[1], v[2]);
+        const std::string who = name == "*" ? "'*' (all other regions)" : "region '" + name + "'";
+        auto& [had_vector, had_pressure] = seen[name];
+        if ((is_pressure && had_pressure) || (!is_pressure && had_vector))
+            throw std::invalid_argument("boundary condition for " + who + " given twice");
+        RegionCondition* rc = nullptr;
         if (name == "*") {
-            if (bc.others) throw std::invalid_argument("boundary condition '*' given twice");
-            bc.others = rc;
+            if (!bc.others) bc.others = RegionCondition{};
+            rc = &*bc.others;
         } else {
-            if (!bc.regions.emplace(name, rc).second)
-                throw std::invalid_argument("boundary condition for region '" + name + "' given twice");
+            rc = &bc.regions[name];
         }
+        if (is_pressure) {
+            had_pressure = true;
+            rc->pressure = v[0];
+        } else {
+            had_vector = true;
+            rc->kind = k;
+            rc->value = Vec3(v[0], v[1], v[2]);
+        }
+        if (had_pressure && rc->kind == RegionCondition::Kind::displacement)
+            throw std::invalid_argument("boundary condition: pressure on " + who +
+                                        ", which has a displacement (Dirichlet) condition; a pressure acts on traction "
+                                        "(Neumann) regions only: remove the pressure or make the region a traction");
     }
     return bc;
 }
@@ -79,7 +102,7 @@ ResolvedConditions resolve(const BoundaryConditions& bc, const SurfaceMesh& mesh
     }
     if (!uncovered.empty())
         throw std::invalid_argument("regions without a boundary condition: " + uncovered +
-                                    "; give each a 'name: traction x y z' or 'name: displacement x y z', or add '*: ...'");
+                                    "; give each a 'name: traction x y z', 'name: pressure p' or 'name: displacement x y z', or add '*: ...'");
     if (!bc.element_tractions.empty() && bc.element_tractions.size() != mesh.num_triangles())
         throw std::invalid_argument("per-element tractions: " + std::to_string(bc.element_tractions.size()) +
                                     " values for " + std::to_string(mesh.num_triangles()) + " triangles");
@@ -105,7 +128,9 @@ ResolvedConditions resolve(const BoundaryConditions& bc, const SurfaceMesh& mesh
                 node_region[v] = r;
             }
         } else {
-            out.traction[t] = rc.value + (bc.element_tractions.empty() ? Vec3::Zero() : bc.element_tractions[t]);
+            // Pressure: -p n with the element's own outward normal (thesis ch. 2.2 Neumann data).
+            out.traction[t] = rc.value - rc.pressure * triangle_normal(mesh, t) +
+                              (bc.element_tractions.empty() ? Vec3::Zero() : bc.element_tractions[t]);
         }
     }
     return out;

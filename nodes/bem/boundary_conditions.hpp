@@ -1,7 +1,8 @@
 #pragma once
 // Boundary conditions of the SGBEM: per region either a constant displacement (Dirichlet) or a
-// constant traction (Neumann), plus optional per-element tractions added on Neumann elements
-// (rigid-body coupling, thesis ch. 7.2). Every triangle must be covered.
+// constant traction (Neumann) and/or a pressure p (Neumann, traction -p n with each element's own
+// outward normal, so it follows curved and non-planar regions), plus optional per-element tractions
+// added on Neumann elements (rigid-body coupling, thesis ch. 7.2). Every triangle must be covered.
 #include "graph/value.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
@@ -15,6 +16,7 @@ namespace cf::bem {
 struct RegionCondition {
     enum class Kind { displacement, traction } kind = Kind::traction;
     Vec3 value = Vec3::Zero();  // [m] for displacement, [Pa] for traction
+    double pressure = 0;        // [Pa], Neumann only: adds -pressure * n per element (n outward)
 };
 
 struct BoundaryConditions {
@@ -23,8 +25,10 @@ struct BoundaryConditions {
     std::vector<Vec3> element_tractions;             // empty, or one per triangle [Pa]
 };
 
-// Parses "z_max: traction 0 0 1e6; z_min: displacement 0 0 0; *: traction 0 0 0".
-// Throws std::invalid_argument quoting the offending clause and the expected form.
+// Parses "z_max: traction 0 0 1e6; z_min: displacement 0 0 0; inner: pressure 2e5; *: traction 0 0 0".
+// A region may carry a traction and a pressure (they add); a pressure on a region with a
+// displacement is an error naming the region. Throws std::invalid_argument quoting the offending
+// clause and the expected form.
 BoundaryConditions parse_boundary_conditions(const std::string& text);
 
 // Per-element resolution of the conditions on a mesh.

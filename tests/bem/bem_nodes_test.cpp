@@ -3,6 +3,8 @@
 #include "nodes/bem/test_meshes.hpp"
 #include "tests/harness/node_harness.hpp"
 #include "tests/harness/expect_error.hpp"
+#include "graph/pipeline.hpp"
+#include "nodes/register_all.hpp"
 
 #include <gtest/gtest.h>
 
@@ -45,6 +47,30 @@ TEST(BemNodes, UncoveredRegionFailsNamingIt) {
                      {{"operators", a.outputs.at("operators")}});
         },
         {"regions without a boundary condition"}));
+}
+
+TEST(BemNodes, PressureOnADirichletRegionIsAValidateErrorAtItsLine) {
+    const std::string yaml = "nodes:\n"
+                             "  box: {type: shape.box}\n"
+                             "  assemble: {type: assemble.sgbem, inputs: {mesh: box.mesh}}\n"
+                             "  solve:\n"
+                             "    type: solve.sgbem\n"
+                             "    inputs: {operators: assemble.operators}\n"
+                             "    params: {boundary_conditions: 'z_min: displacement 0 0 0; z_min: pressure 1e5; *: traction 0 0 0'}\n";
+    std::vector<graph::Diagnostic> diags;
+    graph::load_pipeline_text(yaml, "case.yaml", node_registry(), {}, diags);
+    ASSERT_EQ(diags.size(), 1u);
+    const std::string text = graph::format(diags[0]);
+    EXPECT_NE(text.find("case.yaml:7"), std::string::npos) << text;
+    EXPECT_NE(text.find("region 'z_min'"), std::string::npos) << text;
+    EXPECT_NE(text.find("Dirichlet"), std::string::npos) << text;
+    // And through the node: a pressure on the sphere solves (pure Neumann, the verification case's load).
+    const SurfaceMesh sphere = bem::bem_icosphere_mesh(1, 0.5);
+    auto a = run_node("assemble.sgbem", {{"E", 1e9}, {"nu", 0.25}, {"single_layer", false}}, {{"mesh", value(sphere)}});
+    auto s = run_node("solve.sgbem", {{"boundary_conditions", std::string("*: pressure 1e6")}}, {{"operators", a.outputs.at("operators")}});
+    const auto& sol = s.outputs.at("solution").get<bem::BemSolution>();
+    for (std::size_t v = 0; v < sphere.num_vertices(); ++v)  // u = -p (1 - 2 nu) / E x
+        EXPECT_NEAR(sol.displacement[v].dot(sphere.vertices[v].normalized()), -1e6 * 0.5 * 0.5 / 1e9, 1e-3 * 2.5e-4) << v;
 }
 
 namespace {

@@ -35,6 +35,7 @@ TEST(BemVerification, rigid_body_kernel) { expect_case("rigid_body_kernel"); }
 TEST(BemVerification, cube_tension_neumann) { expect_case("cube_tension_neumann"); }
 TEST(BemVerification, cube_tension_mixed) { expect_case("cube_tension_mixed"); }
 TEST(BemVerification, sphere_radial_traction) { expect_case("sphere_radial_traction"); }
+TEST(BemVerification, pressure_sphere) { expect_case("pressure_sphere"); }
 TEST(BemVerification, penny_crack_opening) { expect_case("penny_crack_opening"); }
 TEST(BemVerification, penny_crack_sif) { expect_case("penny_crack_sif"); }
 TEST(BemVerification, penny_crack_sif_displacement_correlation) { expect_case("penny_crack_sif_displacement_correlation"); }
@@ -138,6 +139,38 @@ TEST(BemBoundaryConditions, UncoveredAndUnknownRegionsAreListed) {
     const auto bc = resolve(parse_boundary_conditions(" z_min : displacement 0 0 0 ;*: traction 1 2 3;"), m);
     EXPECT_EQ(bc.dirichlet[8], 1);  // z_min triangles are 8, 9
     EXPECT_EQ(bc.traction[0], Vec3(1, 2, 3));
+}
+
+TEST(BemBoundaryConditions, PressureIsMinusPTimesEachElementsNormalAndAddsToATraction) {
+    // Unit cube: face normals are +-e_x, +-e_y, +-e_z, so -p n is known by hand per face.
+    const SurfaceMesh m = bem_cube_mesh(1, 1.0);
+    const auto bc = resolve(parse_boundary_conditions("z_max: pressure 2e5; z_max: traction 1 2 3; x_min: pressure -7; "
+                                                      "z_min: displacement 0 0 0; *: traction 0 0 0"),
+                            m);
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        const std::string r = m.region_name(m.region_of(t));
+        if (r == "z_max") {
+            EXPECT_EQ(bc.traction[t], Vec3(1, 2, 3 - 2e5)) << t;
+        } else if (r == "x_min") {
+            EXPECT_EQ(bc.traction[t], Vec3(-7, 0, 0)) << t;  // n = -e_x, p = -7: t = -7 e_x
+        } else if (r == "z_min") {
+            EXPECT_EQ(bc.dirichlet[t], 1) << t;
+        } else {
+            EXPECT_EQ(bc.traction[t], Vec3::Zero()) << t;
+        }
+    }
+    // '*' may be a pressure: every other region gets -p n.
+    const auto all = resolve(parse_boundary_conditions("*: pressure 1"), m);
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) EXPECT_NEAR((all.traction[t] + triangle_normal(m, t)).norm(), 0, 1e-15);
+    // A pressure on a Dirichlet region names the region, in either order.
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [] { parse_boundary_conditions("z_min: displacement 0 0 0; z_min: pressure 1e5"); }, {"region 'z_min'", "Dirichlet"}));
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [] { parse_boundary_conditions("*: pressure 1e5; *: displacement 0 0 0"); }, {"'*'", "Dirichlet"}));
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([] { parse_boundary_conditions("top: pressure 1; top: pressure 2"); },
+                                                           {"region 'top'", "twice"}));
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([] { parse_boundary_conditions("top: pressure"); }, {"one finite number"}));
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([] { parse_boundary_conditions("top: pressure 1 2"); }, {"unexpected '2'"}));
 }
 
 TEST(BemSolve, UnbalancedNeumannLoadIsRefusedWithResultants) {
