@@ -23,6 +23,7 @@ const graph::NodeRegistry& node_registry() {
         register_propagate_nodes(r);
         register_estimate_nodes(r);
         register_rigid_nodes(r);
+        register_probes_nodes(r);
         return r;
     }();
     return registry;

@@ -21,6 +21,7 @@ void register_initiate_nodes(graph::NodeRegistry& r);  // nodes/initiate (initia
 void register_propagate_nodes(graph::NodeRegistry& r); // nodes/propagate (fracture.*, propagate.fronts)
 void register_estimate_nodes(graph::NodeRegistry& r);  // nodes/estimate (sif.fronts, sif.estimator)
 void register_rigid_nodes(graph::NodeRegistry& r);     // nodes/rigid (rigid.*, export.animation)
+void register_probes_nodes(graph::NodeRegistry& r);    // nodes/probes (export.probes)
 
 // Verification cases per stage (crackflow verify).
 // (stages add: void add_<stage>_verification_cases(std::vector<VerificationCase>& cases);)

@@ -181,8 +181,9 @@ graph::NodeType geometry_node() {
 
 graph::NodeType sif_export_node() {
     graph::NodeType t("export.sifs",
-                      "Writes the stress intensities along every crack front: one row per front edge, in front order, with "
-                      "the edge midpoint [m], the tip frame (e1 forward, e2 crack normal, e3 = e1 x e2), K_I, K_II, K_III, "
+                      "Writes the stress intensities along every crack front: one row per front node (the mean of its two "
+                      "edges, as propagation uses them, ch. 4.5.2) or per front edge, in front order, with the node "
+                      "position or edge midpoint [m], the tip frame (e1 forward, e2 crack normal, e3 = e1 x e2), K_I, K_II, K_III, "
                       "the effective K of eq. (4.7) and K_c there [Pa*sqrt(m)], as CSV and as VTK polylines (one per front, "
                       "for ParaView). Inside a fracture loop it writes every step ('{iteration}' in the path); files are "
                       "written atomically.");
@@ -192,8 +193,11 @@ graph::NodeType sif_export_node() {
     t.param_string("path", "", "CSV file; relative to the run's output directory; '{iteration}' becomes the loop iteration")
         .required().writes_file();
     t.param_string("vtp_path", "", "VTK polylines (.vtp); empty: '<path stem>.vtp' beside 'path'; 'none': no VTK file").writes_file();
+    t.param_choice("at", "nodes", {"nodes", "edges"},
+                   "one row per front node (columns front,node,crack,vertex,...) or per front edge (front,edge,crack,v0,v1,...)");
     t.run([](graph::NodeContext& c) {
         const bem::BemSolution& sol = c.in<bem::BemSolution>("solution");
+        const bool nodes = c.string("at") == "nodes";
         const SurfaceMesh* cracks = bem::current_crack_mesh(sol);
         const ScalarField* toughness = c.has("toughness") ? &c.in<ScalarField>("toughness") : nullptr;
         if (toughness && toughness->quantity != FieldQuantity::toughness)
@@ -205,16 +209,19 @@ graph::NodeType sif_export_node() {
         else if (vtp != "none") vtp = c.output_path(c.string("vtp_path"));
         std::vector<propagate::FrontSifRow> rows;
         try {
-            if (cracks) rows = propagate::front_sif_rows(*cracks, c.in<std::vector<bem::FrontEdgeSif>>("sifs"),
-                                                         sol.surface->elastic.nu, toughness);
-            propagate::write_front_sifs_csv(csv, rows);
+            const auto& sifs = c.in<std::vector<bem::FrontEdgeSif>>("sifs");
+            const double nu = sol.surface->elastic.nu;
+            if (cracks)
+                rows = nodes ? propagate::front_node_sif_rows(*cracks, sifs, nu, toughness)
+                             : propagate::front_sif_rows(*cracks, sifs, nu, toughness);
+            propagate::write_front_sifs_csv(csv, rows, nodes);
             if (vtp != "none") propagate::write_front_sifs_vtp(vtp, rows);
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("inputs 'sifs' / 'solution': ") + e.what());
         } catch (const std::exception& e) {
             c.fail("parameter 'path' (" + csv.string() + ") / 'vtp_path': " + e.what());
         }
-        c.count("front_edges", static_cast<double>(rows.size()));
+        c.count(nodes ? "front_nodes" : "front_edges", static_cast<double>(rows.size()));
     });
     return t;
 }

@@ -51,11 +51,60 @@ std::vector<FrontSifRow> front_sif_rows(const SurfaceMesh& cracks, const std::ve
     return rows;
 }
 
-void write_front_sifs_csv(const std::filesystem::path& path, const std::vector<FrontSifRow>& rows) {
+std::vector<FrontSifRow> front_node_sif_rows(const SurfaceMesh& cracks, const std::vector<bem::FrontEdgeSif>& sifs, double nu,
+                                             const ScalarField* toughness) {
+    const std::vector<FrontSifRow> edges = front_sif_rows(cracks, sifs, nu, toughness);
+    std::map<std::pair<int, int>, const FrontSifRow*> by_index;  // (front, edge) -> row
+    for (const FrontSifRow& r : edges) by_index[{r.front, r.edge}] = &r;
+    std::vector<FrontSifRow> rows;
+    if (cracks.num_triangles() == 0) return rows;
+    const auto fronts = extract_fronts(cracks);
+    for (std::size_t f = 0; f < fronts.size(); ++f) {
+        const CrackFront& front = fronts[f];
+        const int n = static_cast<int>(front.nodes.size()), ne = static_cast<int>(front.num_edges());
+        for (int i = 0; i < n; ++i) {
+            std::vector<const FrontSifRow*> adj;  // the edges ending and starting at node i
+            for (int e : {i - 1, i}) {
+                if (!front.closed && (e < 0 || e >= ne)) continue;
+                const auto it = by_index.find({static_cast<int>(f), (e + ne) % ne});
+                if (it != by_index.end()) adj.push_back(it->second);
+            }
+            if (adj.empty()) continue;
+            FrontSifRow r;
+            r.front = static_cast<int>(f);
+            r.edge = i;
+            r.front_edges = n;
+            r.region = front.region;
+            r.v0 = front.nodes[i];
+            r.midpoint = cracks.vertices[r.v0];
+            Vec3 e1 = Vec3::Zero(), e2 = Vec3::Zero();
+            for (const FrontSifRow* a : adj) {
+                const double w = 1.0 / adj.size();
+                r.KI += w * a->KI;
+                r.KII += w * a->KII;
+                r.KIII += w * a->KIII;
+                e1 += w * a->e1;
+                e2 += w * a->e2;
+            }
+            // Orthonormalise as ch. 4.5.2 does: keep the normal, make the forward direction orthogonal to it.
+            r.e2 = e2.normalized();
+            r.e1 = (e1 - e1.dot(r.e2) * r.e2).normalized();
+            r.e3 = r.e1.cross(r.e2);
+            r.K_eff = effective_sif({r.KI, r.KII, r.KIII}, nu);  // eq. (4.7)
+            if (toughness && toughness->source) r.K_c = toughness->value(r.midpoint);
+            rows.push_back(r);
+        }
+    }
+    return rows;
+}
+
+void write_front_sifs_csv(const std::filesystem::path& path, const std::vector<FrontSifRow>& rows, bool nodes) {
     graph::write_atomically(path, [&](std::ostream& os) {
-        os << "front,edge,crack,v0,v1,x,y,z,e1x,e1y,e1z,e2x,e2y,e2z,e3x,e3y,e3z,KI,KII,KIII,K_eff,K_c\n";
+        os << (nodes ? "front,node,crack,vertex" : "front,edge,crack,v0,v1")
+           << ",x,y,z,e1x,e1y,e1z,e2x,e2y,e2z,e3x,e3y,e3z,KI,KII,KIII,K_eff,K_c\n";
         for (const FrontSifRow& r : rows) {
-            os << r.front << ',' << r.edge << ',' << r.region << ',' << r.v0 << ',' << r.v1;
+            os << r.front << ',' << r.edge << ',' << r.region << ',' << r.v0;
+            if (!nodes) os << ',' << r.v1;
             for (const Vec3* v : {&r.midpoint, &r.e1, &r.e2, &r.e3})
                 for (int k = 0; k < 3; ++k) {
                     os << ',';
