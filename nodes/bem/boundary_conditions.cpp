@@ -93,6 +93,11 @@ ResolvedConditions resolve(const BoundaryConditions& bc, const SurfaceMesh& mesh
     std::vector<const RegionCondition*> per_region(nreg, nullptr);
     std::vector<char> used(nreg, 0);
     for (std::size_t t = 0; t < mesh.num_triangles(); ++t) used[mesh.region_of(t)] = 1;
+    for (const auto& kv : bc.regions)
+        if (!used[ids.at(kv.first)])
+            throw std::invalid_argument("boundary condition names region '" + kv.first +
+                                        "', which has no triangles on this mesh (a region that lost its triangles to "
+                                        "an earlier region, or to remeshing); fix the regions or drop the condition");
     std::string uncovered;
     for (int r = 0; r < nreg; ++r) {
         auto it = bc.regions.find(mesh.region_name(r));

@@ -110,6 +110,7 @@ void check_options_and_counts(const MeshSoup& soup, const ImportOptions& options
 struct LocatedTriangles {
     std::vector<Tri> tris;
     std::vector<FileLocation> where;
+    std::vector<int> region;  // per triangle, into MeshSoup::region_names (-1: default)
 };
 
 // Index checks and fan triangulation.
@@ -140,6 +141,7 @@ LocatedTriangles fan_triangulate(const MeshSoup& soup) {
         for (std::size_t k = 1; k + 1 < f.count; ++k) {
             out.tris.push_back({corner(0), corner(k), corner(k + 1)});
             out.where.push_back(f.where);
+            out.region.push_back(f.region);
         }
     }
     return out;
@@ -207,6 +209,22 @@ void apply_scale(double scale, const std::string& file, SurfaceMesh& m) {
     }
 }
 
+// Regions in order of first use; a name no face uses gets no region (an OBJ "o" line followed by
+// "usemtl" names only the material's faces), so no region of an imported mesh is empty.
+void assign_soup_regions(const MeshSoup& soup, const std::vector<int>& soup_region, SurfaceMesh& m) {
+    std::vector<int> id_of(soup.region_names.size() + 1, -1);  // soup region + 1 -> mesh region
+    m.region.resize(m.triangles.size());
+    m.region_names.clear();
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        int& id = id_of[std::size_t(soup_region[t] + 1)];
+        if (id < 0) {
+            id = static_cast<int>(m.region_names.size());
+            m.region_names.push_back(soup_region[t] < 0 ? "default" : soup.region_names[std::size_t(soup_region[t])]);
+        }
+        m.region[t] = id;
+    }
+}
+
 }  // namespace
 
 ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& options) {
@@ -227,8 +245,7 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
 
     apply_scale(options.scale, file, m);
     m.triangles = std::move(lt.tris);
-    m.region.assign(m.triangles.size(), 0);
-    m.region_names = {"default"};
+    assign_soup_regions(soup, lt.region, m);
     return out;
 }
 

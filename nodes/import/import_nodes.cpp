@@ -1,5 +1,6 @@
 // Node adapters for the import stage.
 #include "nodes/import/read_mesh.hpp"
+#include "nodes/regions/region_stats.hpp"
 #include "nodes/registration.hpp"
 
 #include "graph/node_context.hpp"
@@ -8,8 +9,11 @@ namespace cf {
 
 void register_import_nodes(graph::NodeRegistry& r) {
     graph::NodeType t("import.mesh",
-                      "Reads a closed triangle surface from OBJ, OFF, PLY or STL; polygons are fan-triangulated and "
-                      "every triangle gets region 0 named \"default\".");
+                      "Reads a closed triangle surface from OBJ, OFF, PLY or STL; polygons are fan-triangulated. Regions "
+                      "(for boundary conditions) come from the file: OBJ faces take the name of the latest 'g', 'o' or "
+                      "'usemtl' line before them; PLY faces an integer face property region, material_index, material or "
+                      "group (the first present) as '<property><value>', e.g. region3; faces without one (and OFF, STL) "
+                      "get region 'default'. The report lists each region's triangles and area [m^2].");
     t.output<SurfaceMesh>("mesh", "the checked surface, outward oriented, in metres");
     t.param_string("path", "", "mesh file (.obj, .off, .ply, .stl), relative to the working directory").required();
     t.param_bool("reorient", false,
@@ -32,6 +36,7 @@ void register_import_nodes(graph::NodeRegistry& r) {
         c.count("vertices", static_cast<double>(im.mesh.num_vertices()));
         c.count("triangles", static_cast<double>(im.mesh.num_triangles()));
         c.count("regions", static_cast<double>(im.mesh.num_regions()));
+        count_region_stats(c, im.mesh);
         c.count("shells", static_cast<double>(im.report.components));
         c.count("flipped_triangles", static_cast<double>(im.report.flipped_triangles));
         c.count("welded_vertices", static_cast<double>(im.report.welded_vertices));

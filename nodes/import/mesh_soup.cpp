@@ -35,4 +35,15 @@ std::string format_point(const Vec3& p) {
     return "(" + graph::format_number(p.x()) + ", " + graph::format_number(p.y()) + ", " + graph::format_number(p.z()) + ")";
 }
 
+int soup_region(MeshSoup& soup, const std::string& name, const FileLocation& where) {
+    if (name.empty() || name == "*" || name.find_first_of(":;") != std::string::npos)
+        throw MeshFileError(file_error(soup.file, where, "region name " + quote_token(name) + " cannot be used in boundary conditions",
+                                       "rename the group or material: no ':' or ';', not '*'"));
+    if (name == "default") return -1;  // the region of faces without a name
+    for (std::size_t k = 0; k < soup.region_names.size(); ++k)
+        if (soup.region_names[k] == name) return static_cast<int>(k);
+    soup.region_names.push_back(name);
+    return static_cast<int>(soup.region_names.size() - 1);
+}
+
 }  // namespace cf

@@ -27,6 +27,7 @@ struct SoupFace {
     std::size_t first = 0;  // into MeshSoup::indices
     std::size_t count = 0;
     FileLocation where;
+    int region = -1;        // into MeshSoup::region_names; -1: none named (region 'default')
 };
 
 struct MeshSoup {
@@ -36,7 +37,12 @@ struct MeshSoup {
     std::vector<SoupFace> faces;
     int index_base = 0;               // 1 for OBJ (indices printed as the file has them)
     bool weld_by_position = false;    // STL stores each facet's corners separately
+    std::vector<std::string> region_names;  // named face groups (OBJ g/o/usemtl, PLY face property)
 };
+
+// The id of region `name` in soup.region_names, added if new. Throws MeshFileError at `where` for a
+// name that boundary conditions could not address (empty, '*', or containing ':' or ';').
+int soup_region(MeshSoup& soup, const std::string& name, const FileLocation& where);
 
 // "file.obj:17" or "file.stl: byte 684".
 std::string describe(const std::string& file, const FileLocation& where);

@@ -1,7 +1,9 @@
 // Wavefront OBJ: "v x y z" vertices and "f a b c ..." polygons with 1-based indices, optionally
 // "a/t/n"; negative indices count back from the latest vertex (OBJ's relative indices).
-// Everything else (normals, texture coordinates, groups, materials, lines) is not geometry we
-// need and is skipped.
+// Regions: each face belongs to the name of the latest "g", "o" or "usemtl" line before it (its
+// first name; a bare "g" returns to region 'default'), so face groups and materials assigned in a
+// modelling tool become boundary regions. Everything else (normals, texture coordinates, lines) is
+// skipped.
 #include "nodes/import/soup_readers.hpp"
 #include "nodes/import/text_scanner.hpp"
 
@@ -14,6 +16,7 @@ MeshSoup read_obj_soup(const std::string& file, std::string_view bytes) {
     TextScanner scan(bytes);
     std::string_view line;
     std::vector<std::string_view> tok;
+    int region = -1;  // the current group/object/material; -1: none yet
     while (scan.next_line(line)) {
         split_tokens(strip_comment(line, '#'), tok);
         if (tok.empty()) continue;
@@ -25,8 +28,10 @@ MeshSoup read_obj_soup(const std::string& file, std::string_view bytes) {
                                                "write vertices as 'v x y z'"));
             soup.vertices.emplace_back(parse_coordinate(file, ln, tok[1]), parse_coordinate(file, ln, tok[2]),
                                        parse_coordinate(file, ln, tok[3]));
+        } else if (tok[0] == "g" || tok[0] == "o" || tok[0] == "usemtl") {
+            region = tok.size() >= 2 ? soup_region(soup, std::string(tok[1]), at) : -1;
         } else if (tok[0] == "f") {
-            SoupFace face{soup.indices.size(), 0, at};
+            SoupFace face{soup.indices.size(), 0, at, region};
             for (std::size_t k = 1; k < tok.size(); ++k) {
                 std::string_view v = tok[k].substr(0, tok[k].find('/'));
                 long long idx = 0;

@@ -1,7 +1,9 @@
 // Stanford PLY: a text header declaring elements and their properties, then the data as ASCII,
 // binary little-endian or binary big-endian. We read element "vertex" (properties x, y, z of
 // any numeric type) and element "face" (list property vertex_indices or vertex_index of an
-// integer type); every other element and property is parsed and skipped.
+// integer type); every other element and property is parsed and skipped. Regions: an integer
+// face property named region, material_index, material or group (the first of these present, in
+// this order) gives each face the region '<property><value>', e.g. region3 or material0.
 #include "nodes/import/soup_readers.hpp"
 #include "nodes/import/text_scanner.hpp"
 
@@ -169,12 +171,21 @@ private:
     std::size_t next_ = 0;
 };
 
+// The face property that names regions (see the file comment), or -1.
+int face_region_property(const Element& face) {
+    for (const char* name : {"region", "material_index", "material", "group"})
+        for (int p = 0; p < static_cast<int>(face.props.size()); ++p)
+            if (!face.props[p].is_list && face.props[p].name == name && is_integer_type(face.props[p].type)) return p;
+    return -1;
+}
+
 template <class Cursor>
 void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor& cur,
                    const std::function<FileLocation()>& here) {
     for (const Element& e : elements) {
         const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        int ix = -1, iy = -1, iz = -1, iface = -1;
+        int ix = -1, iy = -1, iz = -1, iface = -1, iregion = -1;
+        if (is_face) iregion = face_region_property(e);
         for (int p = 0; p < static_cast<int>(e.props.size()); ++p) {
             const std::string& n = e.props[p].name;
             if (is_vertex && !e.props[p].is_list) {
@@ -195,6 +206,7 @@ void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor&
                     if (p == ix) v.x() = x.real();
                     if (p == iy) v.y() = x.real();
                     if (p == iz) v.z() = x.real();
+                    if (p == iregion) face.region = soup_region(soup, pr.name + std::to_string(x.i), at);
                     continue;
                 }
                 Number n = cur.read(pr.count_type, "list length");

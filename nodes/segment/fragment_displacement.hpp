@@ -11,7 +11,7 @@
 // and added at the end: x_new = x + s (u + cod) + closing (listing 2, lines 10-37).
 // No OpenVDB here; crack grids are sampled through cf::LevelSet.
 #include "nodes/levelset/crack_grids.hpp"
-#include "nodes/segment/triangle_grid.hpp"
+#include "nodes/domain/triangle_grid.hpp"
 
 #include <memory>
 #include <string>

@@ -4,6 +4,8 @@
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/registration.hpp"
 #include "nodes/regions/assign_regions.hpp"
+#include "nodes/regions/region_stats.hpp"
+#include "nodes/simplify/carry_regions.hpp"
 #include "nodes/simplify/remesh.hpp"
 
 #include <stdexcept>
@@ -18,12 +20,17 @@ graph::NodeType remesh_node() {
                       "outward offset along vertex normals (ch. 6.1, App. A items 13-14). Guarantees a closed, "
                       "manifold, oriented mesh without self-intersections; the count within 5 % of the target.");
     t.input<LevelSet>("level_set", "object signed distance grid");
+    t.optional_input<SurfaceMesh>("regions_from",
+                                  "the fine mesh the level set was made from (e.g. import.mesh with face groups): each "
+                                  "coarse triangle takes the region of the fine triangle nearest its centroid; a region "
+                                  "that no coarse triangle takes is an error");
     t.param_int("target_triangles", 1000, "target triangle count (App. A item 13)").range(4, 10000000);
     t.param_real("offset_voxels", 1, "voxels", "outward offset in multiples of r_f (App. A item 14)").range(0, 3);
     t.param_real("adaptivity", 0, "", "adaptivity of the dense dual-contoured mesh, [0, 1]").range(0, 1);
     t.param_string("regions", "",
-                   "boundary regions by half-spaces (nodes/regions spec, e.g. as for regions.halfspace); empty: "
-                   "one region 'surface'");
+                   "boundary regions by half-spaces (nodes/regions spec, e.g. as for regions.halfspace); with "
+                   "'regions_from' they are applied on top (unmatched triangles keep the carried region); empty: the "
+                   "carried regions, or one region 'surface'");
     t.output<SurfaceMesh>("mesh", "closed coarse mesh, outward oriented");
     t.run([](graph::NodeContext& c) {
         RemeshOptions o;
@@ -38,9 +45,24 @@ graph::NodeType remesh_node() {
         }
         SurfaceMesh mesh = std::move(r.mesh);
         mesh.region_names = {"surface"};
+        const bool carried = c.has("regions_from");
+        if (carried) {
+            const SurfaceMesh& fine = c.in<SurfaceMesh>("regions_from");
+            if (fine.num_triangles() == 0) c.fail("input 'regions_from' has no triangles");
+            CarriedRegions cr = carry_regions(mesh, fine);
+            if (!cr.empty_regions.empty()) {
+                std::string names;
+                for (const auto& n : cr.empty_regions) names += (names.empty() ? "'" : ", '") + n + "'";
+                c.fail("input 'regions_from': region(s) " + names + " of the fine mesh got no triangle of the " +
+                       std::to_string(mesh.num_triangles()) +
+                       "-triangle coarse mesh (too small for it); raise target_triangles or merge the region into a "
+                       "neighbour in the modelling tool");
+            }
+            mesh = std::move(cr.mesh);
+        }
         if (!c.string("regions").empty()) {
             try {
-                mesh = assign_regions(mesh, parse_region_spec(c.string("regions")), false).mesh;
+                mesh = assign_regions(mesh, parse_region_spec(c.string("regions")), carried).mesh;
             } catch (const std::exception& e) {
                 c.fail(std::string("parameter 'regions': ") + e.what());
             }
@@ -52,6 +74,7 @@ graph::NodeType remesh_node() {
         c.count("repair_rounds", r.repair_rounds);
         c.count("sliver_flips", double(r.sliver_flips));
         c.count("sliver_collapses", double(r.sliver_collapses));
+        count_region_stats(c, mesh);
         c.out("mesh", std::move(mesh));
     });
     return t;

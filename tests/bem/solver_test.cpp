@@ -173,6 +173,14 @@ TEST(BemBoundaryConditions, PressureIsMinusPTimesEachElementsNormalAndAddsToATra
     EXPECT_TRUE(cf::testing::throws<std::invalid_argument>([] { parse_boundary_conditions("top: pressure 1 2"); }, {"unexpected '2'"}));
 }
 
+TEST(BemBoundaryConditions, AConditionOnAnEmptyRegionIsAnError) {
+    SurfaceMesh m = bem_cube_mesh(1, 1.0);
+    m.region_names.push_back("lid");  // named, but no triangle carries it
+    EXPECT_TRUE(cf::testing::throws<std::invalid_argument>(
+        [&] { resolve(parse_boundary_conditions("lid: pressure 1e5; *: traction 0 0 0"), m); }, {"region 'lid'", "no triangles"}));
+    EXPECT_NO_THROW(resolve(parse_boundary_conditions("*: traction 0 0 0"), m));  // '*' over an empty region is fine
+}
+
 TEST(BemSolve, UnbalancedNeumannLoadIsRefusedWithResultants) {
     AssemblyOptions opt;
     opt.single_layer = false;

@@ -23,7 +23,7 @@ std::vector<std::array<Vec3, 3>> triangle_positions(const SurfaceMesh& m) {
     return r;
 }
 
-void expect_unit_cube(const SurfaceMesh& m, bool same_numbering) {
+void expect_unit_cube(const SurfaceMesh& m, bool same_numbering, const std::string& region = "default") {
     const SurfaceMesh cube = unit_cube();
     ASSERT_EQ(m.num_vertices(), 8u);
     ASSERT_EQ(m.num_triangles(), 12u);
@@ -36,14 +36,14 @@ void expect_unit_cube(const SurfaceMesh& m, bool same_numbering) {
     EXPECT_EQ(surface_area(m), 6.0);
     ASSERT_EQ(m.region.size(), 12u);
     for (int r : m.region) EXPECT_EQ(r, 0);
-    EXPECT_EQ(m.region_names, std::vector<std::string>{"default"});
+    EXPECT_EQ(m.region_names, std::vector<std::string>{region});
     EXPECT_EQ(m.num_regions(), 1);
 }
 
 TEST(ReadFormats, ObjQuadsWithSlashesAndRelativeIndices) {
     auto dir = fresh_dir("obj");
     auto r = read_mesh_file(write_file(dir / "cube.obj", cube_obj()));
-    expect_unit_cube(r.mesh, true);
+    expect_unit_cube(r.mesh, true, "all");  // the file's 'g all' (after 'o cube') names every face
     EXPECT_EQ(r.report.file_faces, 6u);
     EXPECT_EQ(r.report.components, 1u);
     EXPECT_EQ(r.report.flipped_triangles, 0u);

@@ -8,7 +8,7 @@
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/segment/fragment_displacement.hpp"
 #include "nodes/segment/fragments.hpp"
-#include "nodes/segment/triangle_grid.hpp"
+#include "nodes/domain/triangle_grid.hpp"
 #include "tests/levelset/test_meshes.hpp"
 #include "tests/segment/displacement_fixture.hpp"
 #include "tests/harness/expect_error.hpp"

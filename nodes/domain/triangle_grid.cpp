@@ -1,4 +1,4 @@
-#include "nodes/segment/triangle_grid.hpp"
+#include "nodes/domain/triangle_grid.hpp"
 
 #include "graph/diagnostics.hpp"
 

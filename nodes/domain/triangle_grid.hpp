@@ -1,11 +1,11 @@
 #pragma once
-// Closest-point queries against the coarse (BEM) mesh for the output-mesh deformation of thesis
-// ch. 6.4: a uniform grid of cell size r_c, each cell listing the triangles whose bounding box
+// Closest-point queries against a triangle set: the coarse (BEM) mesh for the output-mesh
+// deformation of thesis ch. 6.4 (cell size r_c), the fine mesh whose regions a remeshed BEM mesh
+// takes over (nodes/simplify/carry_regions). A uniform grid, each cell listing the triangles whose bounding box
 // overlaps it (the thesis uses a coarse OpenVDB grid the same way; a hash map of cells keeps
 // OpenVDB out of this code). A query looks at the cell of x and then at shells of neighbouring
 // cells until no unvisited triangle can be closer than the best one found.
 #include "nodes/domain/triangle_closest_point.hpp"
-#include "nodes/levelset/crack_grids.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -13,6 +13,8 @@
 #include <vector>
 
 namespace cf {
+
+using Triangle3 = std::array<Vec3, 3>;  // as nodes/levelset/crack_grids.hpp declares it
 
 class TriangleGrid {
 public:

@@ -1,0 +1,110 @@
+// Regions carried from a fine mesh to a remeshed coarse one (issue 13): each coarse triangle takes
+// the region of the nearest fine triangle. Truth for a box: the face a coarse triangle lies on is
+// known from its normal (x_min has -e_x, ...), whatever the two meshes' triangulations.
+#include "nodes/levelset/level_set.hpp"
+#include "nodes/shape/box.hpp"
+#include "nodes/simplify/carry_regions.hpp"
+#include "tests/harness/expect_error.hpp"
+#include "tests/harness/node_harness.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace cf;
+using cf::testing::run_node;
+using cf::testing::value;
+
+namespace {
+
+// The box face a triangle with unit normal n lies on (make_box's names), or "" for a slanted one
+// (the remesh bevels edges and corners; a bevel triangle's centroid may lie beyond both faces).
+std::string face_of(const Vec3& n) {
+    static const char* names[3][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}};
+    int axis = 0;
+    n.cwiseAbs().maxCoeff(&axis);
+    return std::abs(n[axis]) > 0.999 ? names[axis][n[axis] > 0] : "";
+}
+
+// The fine box with triangle `spot` put into a region of its own.
+SurfaceMesh box_with_spot(int subdivisions, std::size_t spot) {
+    SurfaceMesh fine = make_box(BoxSpec{Vec3(1, 1, 1), Vec3::Zero(), subdivisions, 0});
+    fine.region_names.push_back("spot");
+    fine.region[spot] = static_cast<int>(fine.region_names.size() - 1);
+    return fine;
+}
+
+// A fine triangle that is no coarse triangle's nearest: every fine triangle its own region, carried.
+std::size_t unclaimed_triangle(const SurfaceMesh& coarse, SurfaceMesh fine) {
+    fine.region_names.clear();
+    for (std::size_t t = 0; t < fine.num_triangles(); ++t) {
+        fine.region[t] = static_cast<int>(t);
+        fine.region_names.push_back("t" + std::to_string(t));
+    }
+    const CarriedRegions c = carry_regions(coarse, fine);
+    if (c.empty_regions.empty()) throw std::runtime_error("every fine triangle is some coarse triangle's nearest");
+    return std::stoul(c.empty_regions.front().substr(1));
+}
+
+}  // namespace
+
+TEST(CarryRegions, CoarseBoxTrianglesTakeTheirFacesRegion) {
+    const SurfaceMesh fine = make_box(BoxSpec{Vec3(1, 1, 1), Vec3::Zero(), 9, 0});
+    SurfaceMesh coarse = make_box(BoxSpec{Vec3(1, 1, 1), Vec3::Zero(), 2, 0});
+    for (Vec3& v : coarse.vertices) v *= 1.02;  // stands off the fine surface, as the remesh offset does
+    coarse.region.clear();
+    coarse.region_names = {"surface"};
+    const CarriedRegions c = carry_regions(coarse, fine);
+    EXPECT_TRUE(c.empty_regions.empty());
+    EXPECT_EQ(c.mesh.region_names, fine.region_names);
+    ASSERT_EQ(c.mesh.region.size(), coarse.num_triangles());
+    for (std::size_t t = 0; t < coarse.num_triangles(); ++t)
+        EXPECT_EQ(c.mesh.region_name(c.mesh.region_of(t)), face_of(triangle_normal(coarse, t))) << t;
+    EXPECT_EQ(c.mesh.vertices, coarse.vertices);
+    EXPECT_EQ(c.mesh.triangles, coarse.triangles);
+}
+
+TEST(CarryRegions, ARegionNoCoarseTriangleTakesIsReported) {
+    const SurfaceMesh coarse = make_box(BoxSpec{Vec3(1, 1, 1), Vec3::Zero(), 1, 0});
+    const SurfaceMesh fine = box_with_spot(6, unclaimed_triangle(coarse, make_box(BoxSpec{Vec3(1, 1, 1), Vec3::Zero(), 6, 0})));
+    const CarriedRegions c = carry_regions(coarse, fine);
+    EXPECT_EQ(c.empty_regions, std::vector<std::string>{"spot"});
+    EXPECT_THROW(carry_regions(fine, SurfaceMesh{}), std::invalid_argument);
+}
+
+TEST(CarryRegions, RemeshNodeCarriesRegionsAndRefusesAnEmptyOne) {
+    const SurfaceMesh fine = make_box(BoxSpec{Vec3(1, 1, 1), Vec3::Zero(), 6, 0});
+    auto ls = run_node("levelset.from_mesh", {{"voxel_size", 0.025}}, {{"mesh", value(fine)}});
+    auto r = run_node("simplify.remesh", {{"target_triangles", 400LL}},
+                      {{"level_set", ls.outputs.at("level_set")}, {"regions_from", value(fine)}});
+    const SurfaceMesh& m = r.out<SurfaceMesh>("mesh");
+    EXPECT_EQ(m.region_names, fine.region_names);
+    std::size_t agree = 0, flat = 0;
+    double area = 0;
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        const std::string face = face_of(triangle_normal(m, t));
+        if (face.empty()) continue;  // on a rounded edge or corner of the remeshed box
+        ++flat;
+        agree += m.region_name(m.region_of(t)) == face;
+
+    }
+    for (const std::string& name : fine.region_names) {
+        EXPECT_GT(r.counts.at("region." + name + ".triangles"), 0) << name;
+        area += r.counts.at("region." + name + ".area");
+    }
+    EXPECT_NEAR(area, surface_area(m), 1e-9 * area);  // the report's areas cover the mesh
+    EXPECT_GT(flat, m.num_triangles() / 2);
+    EXPECT_EQ(agree, flat);  // every flat triangle took its own face's region
+    // A half-space spec on top keeps the carried regions where it does not match.
+    auto h = run_node("simplify.remesh", {{"target_triangles", 400LL}, {"regions", std::string("top: z >= 0.45")}},
+                      {{"level_set", ls.outputs.at("level_set")}, {"regions_from", value(fine)}});
+    EXPECT_GT(h.counts.at("region.top.triangles"), 0);
+    EXPECT_GT(h.counts.at("region.x_min.triangles"), 0);
+    // A region too small for the coarse mesh is an error naming it: a fine triangle that the same
+    // remesh (deterministic) leaves without a coarse triangle.
+    const std::size_t spot = unclaimed_triangle(m, fine);
+    EXPECT_TRUE(cf::testing::throws<std::exception>(
+        [&] {
+            run_node("simplify.remesh", {{"target_triangles", 400LL}},
+                     {{"level_set", ls.outputs.at("level_set")}, {"regions_from", value(box_with_spot(6, spot))}});
+        },
+        {"'spot'", "got no triangle", "raise target_triangles"}));
+}
