@@ -519,6 +519,7 @@ void Loader::plan_types_and_params() {
             continue;
         }
         read_params(*p.type, r, p.params);
+        for (const auto& prm : r.params) p.param_locs[prm.name] = prm.value_loc;
     }
 }
 
@@ -742,6 +743,9 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
     if (!diags_.empty()) return plan;                   // a cycle
     mark_streamed_nodes(order);
     emit_in_order(order, plan);
+    // Checks across nodes that only the stages understand (e.g. boundary conditions naming the
+    // regions of an upstream mesh): registered with the registry, run on the finished plan.
+    for (const PlanCheck& check : reg_.plan_checks()) check(plan, diags_);
     return plan;
 }
 

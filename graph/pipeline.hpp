@@ -46,6 +46,7 @@ struct PlanNode {
     SourceLoc loc;
     const NodeType* type = nullptr;  // null for loops
     std::map<std::string, ParamValue> params;
+    std::map<std::string, SourceLoc> param_locs;  // where each parameter given in the file (or --set) was
     std::vector<PlanInput> inputs;
     int body_of = -1;      // index of the loop whose body holds this node
     int streamed_by = -1;  // outside node that runs once per iteration of this loop (via each)

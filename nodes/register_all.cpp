@@ -24,6 +24,7 @@ const graph::NodeRegistry& node_registry() {
         register_estimate_nodes(r);
         register_rigid_nodes(r);
         register_probes_nodes(r);
+        add_plan_checks(r);
         return r;
     }();
     return registry;

@@ -23,6 +23,10 @@ void register_estimate_nodes(graph::NodeRegistry& r);  // nodes/estimate (sif.fr
 void register_rigid_nodes(graph::NodeRegistry& r);     // nodes/rigid (rigid.*, export.animation)
 void register_probes_nodes(graph::NodeRegistry& r);    // nodes/probes (export.probes)
 
+// Checks across nodes run by the pipeline loader (nodes/region_names_check.cpp: boundary
+// conditions naming regions an upstream mesh will not have).
+void add_plan_checks(graph::NodeRegistry& r);
+
 // Verification cases per stage (crackflow verify).
 // (stages add: void add_<stage>_verification_cases(std::vector<VerificationCase>& cases);)
 void add_propagate_verification_cases(std::vector<VerificationCase>& cases);  // nodes/propagate: cases 6, 7

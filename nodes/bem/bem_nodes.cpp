@@ -45,6 +45,10 @@ void declare_assemble_params(graph::NodeType& t) {
                    "of sqrt(distance); sif.fronts reads K from them: front-average K_I within 0.5 % on the penny crack; "
                    "docs/architecture.md). Full BEM only (estimated growth uses the estimator). inherit = linear on a "
                    "first assembly, the previous operators' choice with 'previous'; set it on the first assembly");
+    t.param_string("boundary_regions", "",
+                   "regions the boundary conditions of the solves using these operators name, as 'solve:region;...'; "
+                   "filled in by the pipeline loader (leave it empty): a region the mesh lacks, or that has no "
+                   "triangles, is an error before assembling");
 }
 
 // The memory budget [bytes]: at most what this process may use.
@@ -75,6 +79,8 @@ bem::AssemblyRequest assembly_request(graph::NodeContext& c) {
     rq.material.nu = c.real("nu");
     if (c.has("material")) rq.material = c.in<Material>("material");
     rq.mesh = &c.in<SurfaceMesh>("mesh");
+    if (const std::string problem = bem::check_named_regions(c.string("boundary_regions"), *rq.mesh); !problem.empty())
+        c.fail(problem);
     if (c.has("cracks")) rq.cracks = &c.in<SurfaceMesh>("cracks");
     if (c.has("previous")) rq.previous = &c.in<bem::BemOperators>("previous");
     if (c.has("reuse")) rq.surface_blocks = c.in<bem::BemOperators>("reuse").surface;

@@ -73,6 +73,29 @@ BoundaryConditions parse_boundary_conditions(const std::string& text) {
     return bc;
 }
 
+std::string check_named_regions(const std::string& named, const SurfaceMesh& mesh) {
+    std::map<std::string, std::size_t> triangles;  // region name -> triangles
+    for (int r = 0; r < mesh.num_regions(); ++r) triangles[mesh.region_name(r)] = 0;
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) ++triangles[mesh.region_name(mesh.region_of(t))];
+    std::string known;
+    for (const auto& kv : triangles)
+        if (kv.second > 0) known += (known.empty() ? "" : ", ") + kv.first;
+    std::stringstream all(named);
+    std::string entry;
+    while (std::getline(all, entry, ';')) {
+        const auto colon = entry.find(':');
+        if (colon == std::string::npos) continue;
+        const std::string node = entry.substr(0, colon), region = entry.substr(colon + 1);
+        const auto it = triangles.find(region);
+        if (it == triangles.end() || it->second == 0)
+            return "node '" + node + "' names region '" + region + "' in its boundary_conditions, which this mesh " +
+                   (it == triangles.end() ? "does not have" : "has no triangles of") + " (its regions: " + known +
+                   "); checked before assembling. Fix the name, or the regions of the mesh (the groups or materials "
+                   "of its file, regions.halfspace, simplify.remesh)";
+    }
+    return "";
+}
+
 bool ResolvedConditions::pure_neumann() const {
     for (char d : dirichlet)
         if (d) return false;

@@ -44,6 +44,12 @@ struct ResolvedConditions {
 // region, and nodes shared by Dirichlet regions with different displacements.
 ResolvedConditions resolve(const BoundaryConditions& bc, const SurfaceMesh& mesh);
 
+// `named` lists "node:region" entries separated by ';' (the regions the conditions of solve nodes
+// name; nodes/region_names_check.cpp fills it in for assemble.sgbem). Returns "" when `mesh` has each
+// region with at least one triangle, else a message naming the node, the region and the mesh's
+// regions.
+std::string check_named_regions(const std::string& named, const SurfaceMesh& mesh);
+
 }  // namespace cf::bem
 
 CF_GRAPH_TYPE(cf::bem::BoundaryConditions, "BoundaryConditions");

@@ -73,6 +73,65 @@ TEST(BemNodes, PressureOnADirichletRegionIsAValidateErrorAtItsLine) {
         EXPECT_NEAR(sol.displacement[v].dot(sphere.vertices[v].normalized()), -1e6 * 0.5 * 0.5 / 1e9, 1e-3 * 2.5e-4) << v;
 }
 
+TEST(BemNodes, ValidateNamesARegionTheUpstreamMeshWillNotHave) {
+    auto diagnostics = [](const std::string& yaml) {
+        std::vector<graph::Diagnostic> diags;
+        graph::load_pipeline_text(yaml, "case.yaml", node_registry(), {}, diags);
+        std::string text;
+        for (const auto& d : diags) text += graph::format(d) + "\n";
+        return text;
+    };
+    const std::string solve = "  assemble: {type: assemble.sgbem, inputs: {mesh: MESH}}\n"
+                              "  solve:\n"
+                              "    type: solve.sgbem\n"
+                              "    inputs: {operators: assemble.operators}\n"
+                              "    params: {boundary_conditions: 'BC'}\n";
+    auto pipeline = [&](const std::string& nodes, const std::string& mesh, const std::string& bc) {
+        std::string s = solve;
+        s.replace(s.find("MESH"), 4, mesh);
+        s.replace(s.find("BC"), 2, bc);
+        return "nodes:\n" + nodes + s;
+    };
+    const std::string box = "  box: {type: shape.box}\n";
+    // A procedural box has x_min .. z_max: 'zmax' is reported at its line, with the likely name.
+    std::string text = diagnostics(pipeline(box, "box.mesh", "zmax: pressure 1e5; *: traction 0 0 0"));
+    EXPECT_NE(text.find("case.yaml:7"), std::string::npos) << text;  // the params line
+    EXPECT_NE(text.find("names region 'zmax'"), std::string::npos) << text;
+    EXPECT_NE(text.find("'box' (shape.box)"), std::string::npos) << text;
+    EXPECT_NE(text.find("z_max"), std::string::npos) << text;
+    EXPECT_EQ(diagnostics(pipeline(box, "box.mesh", "z_max: pressure 1e5; z_min: displacement 0 0 0; *: traction 0 0 0")), "");
+    // Half-space regions: the spec's names and 'default' (or, keeping unmatched, the box's).
+    const std::string halfspace = box + "  label: {type: regions.halfspace, inputs: {mesh: box.mesh}, params: {regions: 'top: z >= 0.49'}}\n";
+    EXPECT_EQ(diagnostics(pipeline(halfspace, "label.mesh", "top: pressure 1; default: traction 0 0 0")), "");
+    EXPECT_NE(diagnostics(pipeline(halfspace, "label.mesh", "top: pressure 1; x_min: traction 0 0 0; *: traction 0 0 0")).find("'x_min'"),
+              std::string::npos);
+    // simplify.remesh: 'surface', or the regions carried from the box.
+    const std::string remesh = box + "  ls: {type: levelset.from_mesh, inputs: {mesh: box.mesh}}\n"
+                                     "  coarse: {type: simplify.remesh, inputs: {level_set: ls.level_set, regions_from: box.mesh}}\n"
+                                     "  plain: {type: simplify.remesh, inputs: {level_set: ls.level_set}}\n";
+    EXPECT_EQ(diagnostics(pipeline(remesh, "coarse.mesh", "z_min: displacement 0 0 0; *: pressure 1")), "");
+    EXPECT_NE(diagnostics(pipeline(remesh, "plain.mesh", "z_min: displacement 0 0 0; *: pressure 1")).find("its regions: surface"),
+              std::string::npos);
+    // A mesh read from a file is not known to validate: the loader hands the names to the assembly,
+    // which checks them against the mesh before assembling.
+    const std::string file = pipeline("  file: {type: import.mesh, params: {path: nowhere.obj}}\n", "file.mesh",
+                                      "lid: pressure 1; z_min: displacement 0 0 0; *: traction 0 0 0");
+    EXPECT_EQ(diagnostics(file), "");
+    std::vector<graph::Diagnostic> diags;
+    const graph::Plan plan = graph::load_pipeline_text(file, "case.yaml", node_registry(), {}, diags);
+    EXPECT_EQ(std::get<std::string>(plan.nodes[std::size_t(plan.find("assemble"))].params.at("boundary_regions")),
+              "solve:lid;solve:z_min");
+    SurfaceMesh cube = bem::bem_cube_mesh(1, 1.0);
+    EXPECT_TRUE(cf::testing::throws<std::exception>(
+        [&] { run_node("assemble.sgbem", {{"boundary_regions", std::string("solve:z_min;solve:lid")}}, {{"mesh", value(cube)}}); },
+        {"node 'solve' names region 'lid'", "does not have", "before assembling", "z_max"}));
+    cube.region_names.push_back("lid");  // named, no triangles
+    EXPECT_TRUE(cf::testing::throws<std::exception>(
+        [&] { run_node("assemble.sgbem", {{"boundary_regions", std::string("solve:lid")}}, {{"mesh", value(cube)}}); },
+        {"region 'lid'", "has no triangles"}));
+    EXPECT_NO_THROW(run_node("assemble.sgbem", {{"boundary_regions", std::string("solve:z_min;solve:z_max")}}, {{"mesh", value(cube)}}));
+}
+
 namespace {
 
 // Reads the numbers of the DataArray named `name` of a .vtp file written by write_vtp.
