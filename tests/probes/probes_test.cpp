@@ -5,6 +5,8 @@
 #include "nodes/bem/test_meshes.hpp"
 #include "tests/harness/expect_error.hpp"
 #include "tests/harness/node_harness.hpp"
+#include "graph/executor.hpp"
+#include "graph/pipeline.hpp"
 
 #include <gtest/gtest.h>
 
@@ -184,4 +186,58 @@ TEST(Probes, ASliceThroughACrackPlaneLeavesOutThePointsOnTheCrack) {
             }
         }
     EXPECT_FALSE(std::filesystem::exists(dir / "plane.vtp"));
+}
+
+// Inside a fracture loop, per BEM step: the shipped edge_crack_mode1 (fast) with a slice across
+// the crack and a point above it added to the loop body next to its export.sifs. Every step writes
+// its own files ({iteration}) with the inside points less those on the crack, principal stresses
+// in order, and the point above the crack in vertical tension (the cube is pulled apart along z).
+TEST(Probes, WriteEveryStepOfAFractureLoop) {
+    std::ifstream in(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/edge_crack_mode1.yaml");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    const std::string anchor = "        params: {path: \"sifs_{iteration}.csv\"}\n";
+    const std::size_t at = text.find(anchor);
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at + anchor.size(),
+                "      stress_slice:\n"
+                "        type: export.probes\n"
+                "        inputs: {solution: fracture.solution}\n"
+                "        params: {slice_origin: [-0.05, 0, -0.05], slice_u: [0.1, 0, 0], slice_v: [0, 0, 0.1],\n"
+                "                 slice_u_points: 9, slice_v_points: 9, path: \"slice_{iteration}.csv\"}\n"
+                "      stress_point:\n"
+                "        type: export.probes\n"
+                "        inputs: {solution: fracture.solution}\n"
+                "        params: {points: [0.02, 0.01, 0.03], path: \"point_{iteration}.csv\"}\n");
+    std::vector<graph::Diagnostic> diags;
+    graph::LoadOptions options;
+    options.fast = true;
+    const graph::Plan plan = graph::load_pipeline_text(text, "edge_crack_probes.yaml", node_registry(), options, diags);
+    ASSERT_TRUE(diags.empty()) << graph::format(diags.front());
+    graph::RunOptions run;
+    run.fast = true;
+    run.output_dir = cf::testing::temp_dir("probes-loop");
+    const graph::ExecutionResult res = graph::execute(plan, run);
+    ASSERT_TRUE(res.ok) << res.error;
+    int steps = 0;
+    for (; std::filesystem::exists(run.output_dir / ("sifs_000" + std::to_string(steps) + ".csv")); ++steps) {
+        const std::string k = "000" + std::to_string(steps);
+        std::string header;
+        const auto slice = read_csv(run.output_dir / ("slice_" + k + ".csv"), header);
+        EXPECT_EQ(header.rfind("i,j,x,y,z", 0), 0u);
+        EXPECT_GT(slice.size(), 30u) << k;  // 7 x 7 inside, less the points on the crack
+        EXPECT_LE(slice.size(), 49u) << k;
+        EXPECT_TRUE(std::filesystem::exists(run.output_dir / ("slice_" + k + ".vtp"))) << k;
+        const auto point = read_csv(run.output_dir / ("point_" + k + ".csv"), header);
+        ASSERT_EQ(point.size(), 1u) << k;
+        for (const auto& rows : {slice, point})
+            for (const auto& v : rows) {
+                const std::size_t s1 = v.size() - 3;
+                EXPECT_GE(v[s1], v[s1 + 1]);
+                EXPECT_GE(v[s1 + 1], v[s1 + 2]);
+            }
+        EXPECT_GT(point[0][9], 0) << k;  // szz: the cube is pulled apart along z
+    }
+    EXPECT_GE(steps, 2);
 }
