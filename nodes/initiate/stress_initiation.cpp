@@ -19,6 +19,24 @@ std::vector<Segment> front_segments(const propagate::FractureState& state) {
     return out;
 }
 
+namespace {
+
+// A BEM surface stands off the object's surface: outward by the remesh offset, and by its chords
+// across curved parts and rounded edges. Where it does, a hexagon placed at its usual depth below the
+// element (eq. of ch. 4.4) would start too close to the object's surface or outside it. With the
+// object's level set, each element's reference point moves along its normal onto the object's
+// surface, so hexagons start at the same depth below the material as on an exact surface. Elements
+// farther than r_c / 4 outside the object (a class (d) fragment's BEM mesh where a chip broke off)
+// stay where they are, and the inside test then skips their hexagons.
+void place_on_object_surface(std::vector<ElementStress>& elements, const LevelSet& object, double r_c) {
+    for (ElementStress& e : elements) {
+        const double phi = sample(object, e.centroid);
+        if (phi < 0.25 * r_c) e.centroid -= phi * e.normal;
+    }
+}
+
+}  // namespace
+
 CrackInitiationReport initiate_cracks(propagate::FractureState& state, const bem::BemSolution& sol,
                                       const ScalarField& strength, const CrackInitiationSettings& settings) {
     if (!sol.surface) throw std::invalid_argument("crack initiation: the BEM solution has no surface");
@@ -32,6 +50,7 @@ CrackInitiationReport initiate_cracks(propagate::FractureState& state, const bem
     std::vector<ElementStress> elements = surface_element_stresses(sol);
     std::vector<char> initiated = state.initiated;
     const std::size_t n_surface = elements.size();
+    if (settings.object) place_on_object_surface(elements, *settings.object, state.r_c);
 
     if (settings.branching && sol.cracks && sol.cracks->cracks.num_triangles() > 0) {
         const std::vector<Vec3> uc = bem::crack_average_displacement(sol);  // ch. 6.4

@@ -12,10 +12,12 @@ namespace cf::initiate {
 struct CrackInitiationSettings {
     int max_cracks = 1;      // App. A item 21: limit on stress-initiated cracks in the whole run (d)
     bool branching = false;  // crack faces may initiate too (branching cracks)
-    // The object's level set, or null: a hexagon whose centre is not inside it is skipped too. The
-    // ordinary BEM surface alone does not tell: a fragment that keeps its parent's BEM mesh (ch. 7.3,
-    // class (d)) is smaller than that mesh where a chip broke off, and a hexagon there would start
-    // outside the material and never record a voxel.
+    // The object's level set, or null. Given: hexagons are placed below the object's surface (each
+    // element's point moved along its normal onto it, where the BEM surface is within r_c / 4 of it),
+    // not below the BEM element, which stands off the object by the remesh offset and its chords;
+    // and a hexagon whose centre is not inside the object is skipped. The BEM surface alone does not
+    // tell: a fragment that keeps its parent's BEM mesh (ch. 7.3, class (d)) is smaller than that
+    // mesh where a chip broke off, and a hexagon there would start outside the material.
     const LevelSet* object = nullptr;
 };
 

@@ -82,7 +82,9 @@ FragmentBody fragment_body(const SurfaceMesh& material_mesh, double volume, doub
 
 // A closed surface of about `target_triangles` for `object` (BEM or collision mesh): remeshed
 // (simplify.remesh's algorithm) from a grid about a quarter of the target edge length, offset
-// outward by `offset_voxels` voxels of r_f (retried without offset when the offset folds it).
+// outward by `offset_voxels` voxels of r_f (retried without offset when the offset folds it). With an
+// offset, it is grown further until the surface encloses the object within half a voxel of r_f
+// (sampled at vertices, edge midpoints and centroids): crack elements end just inside the object.
 SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles, double offset_voxels);
 
 // Why `bem_mesh` cannot be a breakable body's BEM surface for `mesh` (both in the material frame),
@@ -91,7 +93,7 @@ SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles,
 // voxel passes; a mesh of another object, scale or placement does not).
 std::string bem_mesh_problem(const SurfaceMesh& bem_mesh, const SurfaceMesh& mesh);
 
-// Remeshes `object` to the settings' BEM target (simplify.remesh's algorithm, one voxel outward),
+// Remeshes `object` to the settings' BEM target (coarse_surface, one voxel outward and enclosing),
 // or keeps `bem_mesh` when given (class (d) fragments keep their parent's). `volume` [m^3]: the
 // fragment's volume from segmentation (OpenVDB's LevelSetMeasure misreads fragment grids, by up to
 // 7 %); 0: measured on `object` (a level set made from a mesh).

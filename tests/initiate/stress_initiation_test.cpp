@@ -156,6 +156,30 @@ TEST(InitiateCracks, HexagonsOutsideTheObjectAreSkipped) {
     EXPECT_EQ(on_positive_side(inside), 0);
 }
 
+// With the object's level set, hexagons start at their depth below the object's surface, not below
+// the BEM element: here the BEM cube (side 1) stands 0.02 outside the object (side 0.96), as a
+// remesh offset would. Depth below the element (ch. 4.4): 0.2 r_c (reach + 0.25) = 0.05 on the side
+// faces (reach 1) and 0.0125 on the top and bottom (reach 0); below the BEM surface instead, the
+// centres would lie 0.03 and -0.0075 (outside) from the object's surface.
+TEST(InitiateCracks, HexagonsStartAtTheirDepthBelowTheObjectsSurface) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(4, L);
+    const auto sol = solve_uniaxial(cube, sigma);
+    BoxSpec inner;
+    inner.size = Vec3(0.96, 0.96, 0.96);
+    inner.subdivisions = 2;
+    const LevelSet object = level_set_from_mesh(make_box(inner), 0.01);
+    CrackInitiationSettings set;
+    set.max_cracks = 12;
+    set.object = &object;
+    propagate::FractureState s = fresh_state(cube);
+    const CrackInitiationReport rep = initiate_cracks(s, *sol, strength_field(0.5 * sigma, 2), set);
+    ASSERT_GT(rep.cracks_added, 0);
+    for (int r = 0; r < s.num_cracks(); ++r) {
+        const double d = box_distance(s.cracks.vertices[region_vertices(s, r).front()], 0.48);
+        EXPECT_TRUE(std::abs(d + 0.05) < 2e-3 || std::abs(d + 0.0125) < 2e-3) << "crack " << r << " centre at " << d;
+    }
+}
+
 TEST(InitiateCracks, CompressionUsesTheCompressiveFactorAndTheMinimalPrincipalStress) {
     const SurfaceMesh cube = bem::bem_cube_mesh(4, L);
     const auto sol = solve_uniaxial(cube, -sigma);
