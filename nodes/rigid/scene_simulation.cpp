@@ -17,7 +17,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <numeric>
 #include <limits>
 #include <stdexcept>
 
@@ -69,6 +71,52 @@ FragmentBody fragment_body(const SurfaceMesh& material_mesh, double volume, doub
 }
 
 namespace {
+
+// The largest shell of `m`, when every other shell (edge-connected piece) encloses under 2 % of its
+// volume. A fragment joined by a ligament thinner than the coarse grid remeshes into separate
+// closed shells, and each shell brings its own six rigid modes into the hypersingular operator, so
+// the pure Neumann system D_R (eq. 7.4), regularised for one body's six, is singular: every run on
+// such a fragment failed (all of falling_objects' failed runs: shells of 4 to 44 triangles beside
+// the main one). Specks are dropped; two large shells are an error (the caller's fallback: the
+// fragment collides but does not break again).
+SurfaceMesh single_shell(const SurfaceMesh& m) {
+    std::vector<int> parent(m.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    const std::function<int(int)> root = [&](int v) { return parent[v] == v ? v : parent[v] = root(parent[v]); };
+    for (const Tri& t : m.triangles) parent[root(t[1])] = parent[root(t[2])] = root(t[0]);
+    std::map<int, std::vector<std::size_t>> shells;  // by root vertex: triangle indices
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) shells[root(m.triangles[t][0])].push_back(t);
+    if (shells.size() <= 1) return m;
+    auto extract = [&](const std::vector<std::size_t>& tris) {
+        SurfaceMesh out;
+        out.region_names = m.region_names;
+        std::vector<int> index(m.vertices.size(), -1);
+        for (std::size_t t : tris) {
+            Tri tri = m.triangles[t];
+            for (int& v : tri) {
+                if (index[v] < 0) {
+                    index[v] = static_cast<int>(out.vertices.size());
+                    out.vertices.push_back(m.vertices[v]);
+                }
+                v = index[v];
+            }
+            out.triangles.push_back(tri);
+            if (!m.region.empty()) out.region.push_back(m.region[t]);
+        }
+        return out;
+    };
+    std::vector<SurfaceMesh> pieces;
+    std::vector<double> volumes;
+    for (const auto& [r, tris] : shells) {
+        pieces.push_back(extract(tris));
+        volumes.push_back(std::abs(signed_volume(pieces.back())));
+    }
+    const std::size_t k = static_cast<std::size_t>(std::max_element(volumes.begin(), volumes.end()) - volumes.begin());
+    const auto large = std::count_if(volumes.begin(), volumes.end(), [&](double v) { return v >= 0.02 * volumes[k]; });
+    if (large > 1)
+        throw std::runtime_error("remeshed fragment falls apart into " + std::to_string(large) + " large shells");
+    return pieces[k];
+}
 
 // How far `m` lies inside `object` [m]: the largest depth of its vertices, edge midpoints and
 // centroids below the object's surface (0 where it encloses them; at most the narrow band).
@@ -124,6 +172,7 @@ SurfaceMesh coarse_surface(const LevelSet& object, std::size_t target_triangles,
     // The remesh checks closedness and self-intersections; a mesh that still encloses no positive
     // volume (a sliver folded inside out) would make the BEM system indefinite: refuse it too.
     auto checked = [](SurfaceMesh m) {
+        m = single_shell(m);
         if (!(signed_volume(m) > 0)) throw std::runtime_error("remeshed fragment encloses no positive volume");
         return m;
     };

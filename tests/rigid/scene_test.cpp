@@ -144,6 +144,29 @@ TEST(BreakableSurface, TheBemSurfaceEnclosesItsObject) {
     EXPECT_GT(plain_deepest, 2 * r_f);
 }
 
+// A remeshed BEM surface is one shell: each extra shell adds six rigid modes the pure Neumann system
+// (eq. 7.4) does not regularise, and every run on such a fragment failed with an indefinite D_R.
+// A speck beside a body is dropped; two bodies of similar size are refused (the scene then keeps the
+// fragment as a collision mesh that does not break again).
+TEST(BreakableSurface, TheBemSurfaceIsOneShell) {
+    auto two_boxes = [](double small_side) {
+        cf::BoxSpec a, b;
+        a.size = cf::Vec3(0.1, 0.1, 0.1);
+        b.size = cf::Vec3(small_side, small_side, small_side);
+        b.centre = cf::Vec3(0.2, 0, 0);
+        cf::SurfaceMesh m = cf::make_box(a);
+        const cf::SurfaceMesh mb = cf::make_box(b);
+        const int n = static_cast<int>(m.vertices.size());
+        m.vertices.insert(m.vertices.end(), mb.vertices.begin(), mb.vertices.end());
+        for (cf::Tri t : mb.triangles) m.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+        return cf::level_set_from_mesh(m, 2e-3);
+    };
+    const cf::SurfaceMesh one = cf::rigid::coarse_surface(two_boxes(0.02), 300, 1);
+    EXPECT_EQ(cf::check_topology(one).components, 1u);
+    EXPECT_GT(cf::signed_volume(one), 1e-3);  // the large box's shell is the one kept
+    EXPECT_THROW(cf::rigid::coarse_surface(two_boxes(0.09), 300, 1), std::runtime_error);
+}
+
 TEST(Scene, FallingObjectsIsIdenticalForOneAndTwoThreadsAndValidGltf) {
     std::string glb[2], runs[2];
     for (int threads : {1, 2}) {
