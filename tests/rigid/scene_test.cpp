@@ -14,12 +14,18 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -165,6 +171,49 @@ TEST(BreakableSurface, TheBemSurfaceIsOneShell) {
     EXPECT_EQ(cf::check_topology(one).components, 1u);
     EXPECT_GT(cf::signed_volume(one), 1e-3);  // the large box's shell is the one kept
     EXPECT_THROW(cf::rigid::coarse_surface(two_boxes(0.09), 300, 1), std::runtime_error);
+}
+
+// Ctrl-C in the middle of a scene's frame (its fracture runs, the fragments' preparation or a
+// Bullet step with hundreds of pieces) stops the run within 0.5 s, plus a margin for writing the
+// report on a busy machine: exit 130, report status "cancelled". A full-resolution bunny used to
+// ignore SIGTERM for over 7 s inside one frame.
+TEST(Scene, CtrlCStopsASceneInsideAFrame) {
+    for (const double delay : {3.0, 6.0}) {
+        const fs::path out = cf::testing::temp_dir("scene-ctrl-c");
+        int fds[2];
+        ASSERT_EQ(pipe(fds), 0);
+        const std::string pipeline = std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/falling_objects.yaml";
+        const pid_t pid = fork();
+        if (pid == 0) {
+            dup2(fds[1], 1);
+            dup2(fds[1], 2);
+            close(fds[0]);
+            execl(CRACKFLOW_EXE, CRACKFLOW_EXE, "run", pipeline.c_str(), "--fast", "--threads", "2", "--out",
+                  out.c_str(), static_cast<char*>(nullptr));
+            _exit(99);
+        }
+        close(fds[1]);
+        // The frame loop runs for about 15 s (loaded: longer), later frames a second or more each
+        // (fracture runs and a heap of fragments); loop lines are rate-limited, so count from its start.
+        std::string log;
+        char buf[4096];
+        ssize_t n;
+        while (log.find("start  frames") == std::string::npos && (n = read(fds[0], buf, sizeof buf)) > 0)
+            log.append(buf, static_cast<std::size_t>(n));
+        std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+        const auto t0 = std::chrono::steady_clock::now();
+        kill(pid, SIGINT);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        while ((n = read(fds[0], buf, sizeof buf)) > 0) log.append(buf, static_cast<std::size_t>(n));
+        close(fds[0]);
+        std::printf("SIGINT %.1f s into the frame loop: exit %.3f s later\n", delay, seconds);
+        ASSERT_TRUE(WIFEXITED(status)) << log;
+        EXPECT_EQ(WEXITSTATUS(status), 130) << log;
+        EXPECT_LT(seconds, 0.5 + 0.5) << log;
+        EXPECT_NE(read_file(out / "report.json").find("\"cancelled\""), std::string::npos);
+    }
 }
 
 TEST(Scene, FallingObjectsIsIdenticalForOneAndTwoThreadsAndValidGltf) {
