@@ -1,5 +1,6 @@
 #include "nodes/bem/estimated_growth.hpp"
 
+#include "graph/cancel_token.hpp"
 #include "nodes/bem/solver.hpp"
 #include "nodes/bem/surface_intersection.hpp"
 
@@ -123,13 +124,16 @@ void integrate_pending(const SurfaceOperators& surface, const std::vector<Pendin
     const PairQuadrature quad(surface.options.quadrature);
     const ElasticConstants ec = surface.elastic;
     std::vector<std::array<Vec3, 3>> node_part(Ms);
+    const CancelToken cancel = CancelToken::current();  // every 256 pairs (a few milliseconds)
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, Ms, 4), [&](const tbb::blocked_range<std::size_t>& r) {
         PairBlocks blk;
         for (std::size_t a = r.begin(); a != r.end(); ++a) {
             const ElementGeometry& ga = surface.geometry[a];
             Vec3 k_part = Vec3::Zero();
             std::array<Vec3, 3> d_part = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+            std::size_t pairs = 0;
             for (const PendingElement& p : pending) {
+                if ((pairs++ & 255u) == 0) cancel.poll();
                 const PairIntegrals pi = pair_integrals(ga, p.g, false, quad);
                 pair_blocks(ga, p.g, pi, ec, false, blk);
                 for (int be = 0; be < 3; ++be) {

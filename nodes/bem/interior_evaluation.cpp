@@ -1,5 +1,6 @@
 #include "nodes/bem/interior_evaluation.hpp"
 
+#include "graph/cancel_token.hpp"
 #include "nodes/bem/quadrature.hpp"
 #include "nodes/domain/triangle_closest_point.hpp"
 
@@ -186,14 +187,18 @@ std::vector<Vec3> interior_displacement(const BemSolution& sol, const std::vecto
     const Sources src = collect(sol, include_cracks);
     const Kernel k(sol.surface->elastic);
     const double tol = on_surface_tolerance(sol);
-    for (const Vec3& x : points)
+    const CancelToken cancel = CancelToken::current();  // polled per point: one point costs one pass over the sources
+    for (const Vec3& x : points) {
+        cancel.poll();
         if (nearest(src.sigma, x).dist <= tol)
             throw std::invalid_argument("interior displacement: point " + point_text(x) +
                                         " lies on a crack sheet, where the displacement jumps; evaluate at a point "
                                         "off the sheet or use crack_average_displacement");
+    }
     std::vector<Vec3> out(points.size(), Vec3::Zero());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            cancel.poll();
             const Nearest nb = nearest(src.gamma, points[i]);
             if (nb.dist <= tol) {  // boundary trace: the P1 interpolant
                 const Source& s = src.gamma[nb.index];
@@ -212,7 +217,9 @@ std::vector<Mat3> interior_displacement_gradient(const BemSolution& sol, const s
     const Sources src = collect(sol, include_cracks);
     const Kernel k(sol.surface->elastic);
     const double tol = on_surface_tolerance(sol);
+    const CancelToken cancel = CancelToken::current();  // polled per point, as above
     for (const Vec3& x : points) {
+        cancel.poll();
         if (nearest(src.gamma, x).dist <= tol)
             throw std::invalid_argument("interior stress: point " + point_text(x) +
                                         " lies on the surface, where the stress kernels are singular; use a point inside");
@@ -222,7 +229,10 @@ std::vector<Mat3> interior_displacement_gradient(const BemSolution& sol, const s
     }
     std::vector<Mat3> out(points.size(), Mat3::Zero());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = evaluate(k, src, points[i], true, q).G;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            cancel.poll();
+            out[i] = evaluate(k, src, points[i], true, q).G;
+        }
     });
     return out;
 }

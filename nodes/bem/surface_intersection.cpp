@@ -1,5 +1,7 @@
 #include "nodes/bem/surface_intersection.hpp"
 
+#include "graph/cancel_token.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -42,12 +44,15 @@ bool triangles_intersect(const ElementGeometry& a, const ElementGeometry& b) {
 
 void check_crack_clear_of_surface(const std::vector<ElementGeometry>& surface, const std::vector<ElementGeometry>& crack,
                                   std::size_t first, const SurfaceMesh& cracks) {
-    for (std::size_t c = first; c < crack.size(); ++c)
+    const CancelToken cancel = CancelToken::current();  // per crack triangle: one pass over the surface
+    for (std::size_t c = first; c < crack.size(); ++c) {
+        cancel.poll();
         for (std::size_t s = 0; s < surface.size(); ++s)
             if (triangles_intersect(crack[c], surface[s]))
                 throw std::invalid_argument("crack '" + cracks.region_name(cracks.region_of(c)) + "' triangle " +
                                             std::to_string(c) + " touches or crosses surface triangle " + std::to_string(s) +
                                             "; cracks must lie strictly inside the body (shrink or move the crack)");
+    }
 }
 
 }  // namespace cf::bem

@@ -1,5 +1,6 @@
 #include "nodes/estimate/sif_estimator.hpp"
 
+#include "graph/cancel_token.hpp"
 #include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/initiate/surface_stress.hpp"
 #include "nodes/propagate/crack_front.hpp"
@@ -86,7 +87,9 @@ void smooth_along(std::vector<Mat3>& sigma, bool closed, int passes) {
 InteriorFrontMeans interior_front_means(const bem::SurfaceOperators& surface, const SurfaceMesh& cracks,
                                         const std::vector<bem::FrontEdgeSif>& sifs, double near_surface, double nu) {
     InteriorFrontMeans m;
+    const CancelToken cancel = CancelToken::current();
     for (const auto& r : sifs) {
+        cancel.poll();  // a pass over the surface per edge
         const Vec3 p = 0.5 * (cracks.vertices[r.v0] + cracks.vertices[r.v1]);
         const auto [tri, dist] = closest_surface_triangle(surface, p);
         if (dist < near_surface * surface.geometry[tri].diameter) continue;
@@ -192,10 +195,14 @@ FrontStresses front_stresses(const bem::BemSolution& sol, const SurfaceMesh& cra
     out.sigma.resize(fronts.size());
     out.evaluated.resize(fronts.size());
     const bool all_move = !moving || moving->size() != cracks.num_vertices();
+    // Polled per front edge (a pass over the surface each) and per Somigliana point (in
+    // bem::interior_stress), so Ctrl-C stops the estimator within milliseconds.
+    const CancelToken cancel = CancelToken::current();
     for (std::size_t f = 0; f < fronts.size(); ++f) {
         out.sigma[f].assign(fronts[f].size(), Mat3::Zero());
         out.evaluated[f].assign(fronts[f].size(), 0);
         for (std::size_t i = 0; i < fronts[f].size(); ++i) {
+            cancel.poll();
             const FrontEdge& e = fronts[f][i];
             if (!all_move && !(*moving)[e.v0] && !(*moving)[e.v1]) {
                 ++rep.skipped_edges;

@@ -1,5 +1,7 @@
 #include "nodes/initiate/initiation.hpp"
 
+#include "graph/cancel_token.hpp"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -40,8 +42,12 @@ std::vector<Initiation> select_initiations(const std::vector<ElementStress>& ele
     SelectionCounts& n = counts ? *counts : local;
     n = SelectionCounts{};
 
+    // Polled every 4096 elements and per candidate (a pass over the fronts and the admissibility
+    // check's passes over the surface and crack triangles).
+    const CancelToken cancel = CancelToken::current();
     std::vector<Initiation> candidates;
     for (std::size_t e = 0; e < elements.size(); ++e) {
+        if ((e & 4095u) == 0) cancel.poll();
         if (!initiated.empty() && initiated[e]) continue;  // (b)
         const ElementStress& el = elements[e];
         const PrincipalStress p = principal_stresses(el.sigma);
@@ -66,6 +72,7 @@ std::vector<Initiation> select_initiations(const std::vector<ElementStress>& ele
     std::vector<Segment> fronts = front_segments;
     for (const Initiation& c : candidates) {
         if (static_cast<int>(out.size()) >= budget) break;  // (d)
+        cancel.poll();
         if (distance_to_fronts(elements[c.element].centroid, fronts) <= s.r_c) {  // (c)
             ++n.skipped_near_front;
             continue;

@@ -359,9 +359,14 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
     std::vector<openvdb::FloatTree::LeafNodeType*> leaves(blocks.size(), nullptr);
     auto acc = grid.getAccessor();
     std::size_t written = 0;
+    // Polled per block (a large sheet, e.g. levelset.crack_planar's disk, has tens of thousands);
+    // a cancelled grid is half written, and dropped with the node that records it.
+    const CancelToken cancel = CancelToken::current();
+    cancel.poll();
     for (std::size_t first = 0; first < num_blocks; first += kBatch) {
         const std::size_t count = std::min(kBatch, num_blocks - first);
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t b) {
+            cancel.poll();
             const std::size_t g = first + b;
             blocks[b].origin = entries[starts[g]].block;
             rasterise_block(blocks[b], prepared, order.data() + starts[g], order.data() + starts[g + 1],

@@ -36,7 +36,9 @@ LevelSet broken_object(const LevelSet& object, const CrackLevelSets& cracks) {
     const auto& obj = grid_of(object);
     openvdb::FloatGrid::Ptr out = obj.deepCopy();
     const openvdb::CoordBBox obox = obj.evalActiveVoxelBoundingBox();
+    const CancelToken cancel = CancelToken::current();  // per crack: one CSG difference is one OpenVDB call
     for (std::size_t c = 0; c < cracks.cracks.size(); ++c) {
+        cancel.poll();
         const LevelSet& ls = cracks.cracks[c];
         const std::string name = "crack " + std::to_string(c);
         if (ls.empty() || grid_of(ls).activeVoxelCount() == 0)
@@ -119,8 +121,9 @@ int block_slot(int bx, int by, int bz) { return (bx + 1) * 9 + (by + 1) * 3 + (b
 // construction, so any number of threads may query it, each with its own accessor.
 class ItemIndex {
 public:
-    ItemIndex(const openvdb::FloatGrid& g, float s, bool use_tiles) : tree_(g.tree()), s_(s) {
+    ItemIndex(const openvdb::FloatGrid& g, float s, bool use_tiles, const CancelToken& cancel) : tree_(g.tree()), s_(s) {
         for (auto it = g.tree().cbeginLeaf(); it; ++it) {
+            if ((leaves_.size() & 4095) == 0) cancel.poll();  // a million leaves take about a second
             leaf_index_[&*it] = int(leaves_.size());
             leaves_.push_back(&*it);
         }
@@ -309,18 +312,23 @@ struct Labelling {
 // neighbours, then numbered in order of their smallest item (deterministic).
 class ComponentSearch {
 public:
-    ComponentSearch(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd)
-        : items_(items), nbhd_(nbhd), leaves_(items.leaves()), n_(items.size()), forest_(n_) {}
+    // Polls `cancel` per leaf, tile and chunk of items: each is well under a millisecond.
+    ComponentSearch(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd, const CancelToken& cancel)
+        : items_(items), nbhd_(nbhd), leaves_(items.leaves()), n_(items.size()), forest_(n_), cancel_(cancel) {}
 
     Labelling run() {
         mark_inside();
         out_.boundary.assign(leaves_.size() * LeafT::SIZE, 0);
         // 1a. Within each leaf, and its boundary voxels. 1b. Across leaf faces.
         tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            cancel_.poll();
             link_within_leaf(l);
             mark_boundary(l);
         });
-        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) { link_across_faces(l); });
+        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            cancel_.poll();
+            link_across_faces(l);
+        });
         // 2. Tiles with their face neighbours. 3. Components numbered.
         link_tiles();
         number_components();
@@ -332,6 +340,7 @@ private:
     void mark_inside() {
         inside_.assign(n_, 0);
         tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            cancel_.poll();
             const LeafT& leaf = *leaves_[l];
             const std::size_t base = l * LeafT::SIZE;
             for (int off = 0; off < kLeafSize; ++off)
@@ -340,6 +349,7 @@ private:
         std::fill(inside_.begin() + std::ptrdiff_t(items_.tile_base()), inside_.end(), std::uint8_t(1));  // inside tiles only
         masks_.assign(leaves_.size(), LeafMask{});
         tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+            cancel_.poll();
             for (int off = 0; off < kLeafSize; ++off)
                 if (inside_[l * LeafT::SIZE + std::size_t(off)]) masks_[l][std::size_t(off >> 6)] |= std::uint64_t(1) << (off & 63);
         });
@@ -476,6 +486,7 @@ private:
     void link_tiles() {
         tbb::enumerable_thread_specific<ConstAccessor> accs([&] { return items_.accessor(); });
         tbb::parallel_for(std::size_t(0), items_.tiles().size(), [&](std::size_t t) {
+            cancel_.poll();
             ConstAccessor& acc = accs.local();
             const int item = int(items_.tile_base() + t);
             const openvdb::CoordBBox& b = items_.tiles()[t];
@@ -496,6 +507,7 @@ private:
         const std::size_t chunks = (n + kChunk - 1) / kChunk;
         std::vector<int> roots_in_chunk(chunks, 0);
         tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            cancel_.poll();
             int roots = 0;
             for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
                 if (!inside_[i]) continue;
@@ -508,11 +520,13 @@ private:
         for (std::size_t c = 1; c < chunks; ++c) first_label[c] = first_label[c - 1] + roots_in_chunk[c - 1];
         out_.count = chunks ? first_label.back() + roots_in_chunk.back() : 0;
         tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            cancel_.poll();
             int next = first_label[c];
             for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
                 if (inside_[i] && forest_.parent(int(i)) == int(i)) out_.label[i] = next++;
         });
         tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            cancel_.poll();
             for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
                 if (!inside_[i]) continue;
                 const int r = forest_.find(int(i));
@@ -526,13 +540,14 @@ private:
     const std::vector<const LeafT*>& leaves_;
     const std::size_t n_;
     ConcurrentForest forest_;
+    const CancelToken cancel_;
     std::vector<std::uint8_t> inside_;  // per item
     std::vector<LeafMask> masks_;       // per leaf
     Labelling out_;
 };
 
-Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd) {
-    return ComponentSearch(items, nbhd).run();
+Labelling label_components(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd, const CancelToken& cancel) {
+    return ComponentSearch(items, nbhd, cancel).run();
 }
 
 // The leaves that one block of the input contributes to the fragments' grids (step 4 of
@@ -729,16 +744,19 @@ double checked_threshold(double r_f, const SegmentOptions& options) {
 
 // The blocks that may receive fragment voxels: every leaf's block (in leaf order, so block l is
 // leaf l) and then, sorted and once each, the non-leaf blocks next to a leaf.
-std::vector<Coord> output_blocks(const std::vector<const LeafT*>& leaves, const std::vector<BlockNeighbourhood>& nbhd) {
+std::vector<Coord> output_blocks(const std::vector<const LeafT*>& leaves, const std::vector<BlockNeighbourhood>& nbhd,
+                                 const CancelToken& cancel) {
     std::vector<Coord> blocks;
     blocks.reserve(leaves.size());
     for (const LeafT* leaf : leaves) blocks.push_back(leaf->origin());
     std::vector<Coord> extra;
-    for (std::size_t l = 0; l < leaves.size(); ++l)
+    for (std::size_t l = 0; l < leaves.size(); ++l) {
+        if ((l & 4095u) == 0) cancel.poll();
         for (int slot = 0; slot < 27; ++slot)
             if (nbhd[l][slot].leaf < 0)
                 extra.push_back(leaves[l]->origin().offsetBy((slot / 9 - 1) * kLeafDim, (slot / 3 % 3 - 1) * kLeafDim,
                                                              (slot % 3 - 1) * kLeafDim));
+    }
     std::sort(extra.begin(), extra.end());
     extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
     blocks.insert(blocks.end(), extra.begin(), extra.end());
@@ -747,12 +765,19 @@ std::vector<Coord> output_blocks(const std::vector<const LeafT*>& leaves, const 
 
 // One fragment's level set: its leaves (moved in) and its inside tiles, which keep their place in
 // the hierarchy (FloatTree::addTile levels: 1 = 8^3 ...), signed-flood-filled.
+// A fragment may hold most of the object: polled every 4096 leaves (a tenth of a second on a
+// loaded machine), not only once per fragment.
 openvdb::FloatGrid::Ptr fragment_grid(const openvdb::FloatGrid& in, const ItemIndex& items,
-                                      std::vector<std::unique_ptr<LeafT>>& leaves, const std::vector<std::size_t>& tiles) {
+                                      std::vector<std::unique_ptr<LeafT>>& leaves, const std::vector<std::size_t>& tiles,
+                                      const CancelToken& cancel) {
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(in.background());
     grid->setTransform(in.transform().copy());
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
-    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    std::size_t added = 0;
+    for (auto& leaf : leaves) {
+        if ((++added & 4095u) == 0) cancel.poll();
+        grid->tree().addLeaf(leaf.release());
+    }
     leaves.clear();
     for (std::size_t t : tiles)
         grid->tree().addTile(openvdb::Index(items.tile_level(t)), items.tiles()[t].min(), items.tile_value(t), false);
@@ -765,11 +790,14 @@ openvdb::FloatGrid::Ptr fragment_grid(const openvdb::FloatGrid& in, const ItemIn
 // per voxel (exact for a planar interface), whole inside tiles. LevelSetMeasure is not used
 // here: its 3-voxel Dirac delta needs a full outside band, which a fragment has only up to its
 // d-ring. Summed in tree order within a fragment (reproducible).
-void measure_fragment(const openvdb::FloatGrid& g, double r_f, Fragment& f) {
+// Polled every 65536 values.
+void measure_fragment(const openvdb::FloatGrid& g, double r_f, Fragment& f, const CancelToken& cancel) {
     double w_sum = 0;
     Vec3 wx = Vec3::Zero();
     Coord lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+    std::size_t visited = 0;
     for (auto it = g.tree().cbeginValueAll(); it; ++it) {
+        if ((++visited & 65535u) == 0) cancel.poll();
         const float v = *it;
         if (v >= 0.5f * float(r_f)) continue;
         const openvdb::CoordBBox b = it.getBoundingBox();
@@ -811,7 +839,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     const float sf = float(s);
     const int d = over_segmentation_ring(s, r_f);  // 1 or 2 for s in [0, r_f]
     const CancelToken cancel = CancelToken::current();  // polled per leaf, block and fragment
-    const ItemIndex items(in, sf, options.use_tiles);
+    const ItemIndex items(in, sf, options.use_tiles, cancel);
     const auto& leaves = items.leaves();
     cancel.poll();
 
@@ -826,7 +854,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
 
     // 1.-3. Connected components of the inside items: voxels with their 26 neighbours, tiles
     // with their 6 face neighbours; numbered in order of their smallest item (deterministic).
-    const Labelling lab = label_components(items, nbhd);
+    const Labelling lab = label_components(items, nbhd, cancel);
     const int count = lab.count;
     cancel.poll();
 
@@ -837,7 +865,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     // fragment get +r_f/2: never copy a neighbouring fragment. Every written voxel lies in a leaf
     // block or in a block next to one, and its value depends only on the labels and values
     // within 2 voxels, so each block is built on its own, in parallel.
-    const std::vector<Coord> blocks = output_blocks(leaves, nbhd);
+    const std::vector<Coord> blocks = output_blocks(leaves, nbhd, cancel);
     const float bg = in.background();
     const FragmentBlockBuilder builder(items, lab, d, sf, bg, r_f);
     std::vector<BlockOutput> built(blocks.size());
@@ -851,6 +879,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     // 5. The blocks' leaves and the inside tiles gathered per fragment, each fragment's grid
     // assembled and measured in parallel, then the fragments ordered.
     std::vector<std::vector<std::unique_ptr<LeafT>>> leaves_of(count);
+    cancel.poll();
     for (BlockOutput& b : built)
         for (auto& [k, leaf] : b.leaves) leaves_of[k].push_back(std::move(leaf));
     built.clear();
@@ -864,10 +893,10 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
     result.fragments.resize(count);
     tbb::parallel_for(0, count, [&](int k) {
         cancel.poll();
-        const openvdb::FloatGrid::Ptr grid = fragment_grid(in, items, leaves_of[k], tiles_of[k]);
+        const openvdb::FloatGrid::Ptr grid = fragment_grid(in, items, leaves_of[k], tiles_of[k], cancel);
         Fragment& f = result.fragments[k];
         f.active_voxels = grid->activeVoxelCount();
-        measure_fragment(*grid, r_f, f);
+        measure_fragment(*grid, r_f, f, cancel);
         f.grid = wrap_grid(grid, r_f, broken.half_width);
     });
     order_fragments(result);

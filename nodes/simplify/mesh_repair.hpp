@@ -17,11 +17,13 @@ SurfaceMesh simplify_to_count(const SurfaceMesh& mesh, std::size_t target_triang
                               const CancelToken& cancel = CancelToken::current());
 
 // Pairs of triangles that intersect other than in their shared vertices/edge (exact predicates).
-std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& mesh);
+// Polls `cancel` throughout the search (through the point map CGAL reads every candidate pair with).
+std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& mesh,
+                                                         const CancelToken& cancel = CancelToken::current());
 
 // Fills every hole (boundary loop) of a manifold mesh by minimum-weight triangulation without
 // new vertices. Returns the number of holes filled. Throws std::runtime_error if a hole cannot
 // be filled.
-std::size_t fill_holes(SurfaceMesh& mesh);
+std::size_t fill_holes(SurfaceMesh& mesh, const CancelToken& cancel = CancelToken::current());
 
 }  // namespace cf

@@ -92,8 +92,9 @@ std::vector<int> pinched_vertices(const SurfaceMesh& m, const std::vector<char>&
 }  // namespace
 
 int repair_self_intersections(SurfaceMesh& mesh, int max_rounds) {
+    const CancelToken cancel = CancelToken::current();
     for (int round = 0; round < max_rounds; ++round) {
-        const auto pairs = self_intersecting_pairs(mesh);
+        const auto pairs = self_intersecting_pairs(mesh, cancel);
         if (pairs.empty()) return round;
         // Vertices of the intersecting triangles, widened by `round` vertex rings.
         std::vector<char> marked(mesh.vertices.size(), 0);
@@ -113,12 +114,15 @@ int repair_self_intersections(SurfaceMesh& mesh, int max_rounds) {
             for (int v : mesh.triangles[t])
                 if (marked[v]) keep[t] = 0;
         for (int guard = 0; guard < 100; ++guard) {
+            cancel.poll();
             const auto pinched = pinched_vertices(mesh, keep);
             if (pinched.empty()) break;
-            for (int v : pinched)
+            for (int v : pinched) {
+                cancel.poll();  // one pass over the triangles per pinched vertex
                 for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
                     if (keep[t] && std::find(mesh.triangles[t].begin(), mesh.triangles[t].end(), v) != mesh.triangles[t].end())
                         keep[t] = 0;
+            }
         }
         SurfaceMesh kept;
         kept.vertices = mesh.vertices;
@@ -128,7 +132,7 @@ int repair_self_intersections(SurfaceMesh& mesh, int max_rounds) {
             throw std::runtime_error("self-intersection repair would delete more than half of the mesh (" +
                                      std::to_string(pairs.size()) + " intersecting pairs)");
         kept = without_unused_vertices(kept);
-        fill_holes(kept);
+        fill_holes(kept, cancel);
         mesh = std::move(kept);
     }
     return max_rounds;
@@ -184,13 +188,13 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt, const Canc
         res.sliver_collapses += c.collapses;
     };
     clean();
-    res.self_intersections_before = self_intersecting_pairs(mesh).size();
+    res.self_intersections_before = self_intersecting_pairs(mesh, cancel).size();
     cancel.poll();
     if (res.self_intersections_before > 0) {
         res.repair_rounds = repair_self_intersections(mesh, opt.max_repair_rounds);
         clean();
     }
-    res.self_intersections_after = self_intersecting_pairs(mesh).size();
+    res.self_intersections_after = self_intersecting_pairs(mesh, cancel).size();
     const MeshTopologyReport topo = check_topology(mesh);
     if (!topo.is_closed_manifold() || res.self_intersections_after > 0)
         throw std::runtime_error("remeshing could not meet its guarantees: " + topo.describe() + ", " +
