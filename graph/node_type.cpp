@@ -23,6 +23,23 @@ NodeType& NodeType::input_needed_when(std::string input, std::string param, std:
     return *this;
 }
 
+NodeType& NodeType::writes_fixed(std::string name, std::string when) {
+    if (!when.empty()) {
+        const ParamDecl* p = find_param(when);
+        if (!p || p->kind != ParamKind::Bool)
+            throw std::logic_error("node type " + name_ + ": fixed output '" + name + "' depends on '" + when +
+                                   "', which is not a Bool parameter");
+    }
+    for (std::size_t open = name.find('<'); open != std::string::npos; open = name.find('<', open + 1)) {
+        const std::size_t close = name.find('>', open);
+        if (close == std::string::npos || !find_param(std::string_view(name).substr(open + 1, close - open - 1)))
+            throw std::logic_error("node type " + name_ + ": fixed output '" + name + "' names no parameter at column " +
+                                   std::to_string(open + 1));
+    }
+    fixed_outputs_.push_back({std::move(name), std::move(when)});
+    return *this;
+}
+
 ParamDecl& NodeType::add_param(ParamDecl p) {
     if (find_param(p.name)) throw std::logic_error("node type " + name_ + ": duplicate parameter " + p.name);
     params_.push_back(std::move(p));

@@ -23,6 +23,15 @@ struct InputRule {
     std::string why;                  // what the input is used for, one line
 };
 
+// A file a node writes under a name of its own, not one a parameter gives (object.vdb,
+// fragments.csv): `crackflow validate` checks these names against each other and against the
+// names parameters give, so one output cannot silently replace another. In `name`, '<param>'
+// stands for that parameter's value and '*' for a number the run decides (an index, a step).
+struct FixedOutput {
+    std::string name;
+    std::string when;  // a Bool parameter that must be true for the file to be written; empty: always
+};
+
 struct PortDecl {
     std::string name;
     TypeId type;
@@ -64,6 +73,9 @@ public:
     // does not exist.
     NodeType& input_needed_when(std::string input, std::string param, std::vector<std::string> values, std::string why);
 
+    // Declares a file written under a fixed name (see FixedOutput). Throws std::logic_error naming
+    // the type when `when` or a '<param>' in `name` is not one of its parameters.
+    NodeType& writes_fixed(std::string name, std::string when = "");
     NodeType& run(RunFn fn) { run_ = std::move(fn); return *this; }
     // A construct the executor runs itself (only `loop`, graph/loop_type.hpp): no run function, and
     // its ports are patterns named by each pipeline. Declared so that validation and docs use it.
@@ -76,6 +88,7 @@ public:
     const std::vector<PortDecl>& outputs() const { return outputs_; }
     const std::vector<ParamDecl>& params() const { return params_; }
     const std::vector<InputRule>& input_rules() const { return input_rules_; }
+    const std::vector<FixedOutput>& fixed_outputs() const { return fixed_outputs_; }
     const RunFn& run_fn() const { return run_; }
 
     const PortDecl* find_input(std::string_view n) const;
@@ -88,6 +101,7 @@ private:
     std::vector<PortDecl> inputs_, outputs_;
     std::vector<ParamDecl> params_;
     std::vector<InputRule> input_rules_;
+    std::vector<FixedOutput> fixed_outputs_;
     RunFn run_;
     bool construct_ = false;
 };

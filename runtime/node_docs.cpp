@@ -45,6 +45,12 @@ std::string nodes_markdown(const graph::NodeRegistry& registry) {
                 o += "- `" + r.input + "` when `" + r.param + "` is " + values + ": " + r.why + "\n";
             }
         }
+        if (!t->fixed_outputs().empty()) {
+            o += "\n**Files written under fixed names** (in the output directory; `*` is a number, `<p>` parameter p's "
+                 "value; `crackflow validate` checks them against other outputs)\n\n";
+            for (const auto& f : t->fixed_outputs())
+                o += "- `" + f.name + "`" + (f.when.empty() ? std::string() : " when `" + f.when + "` is true") + "\n";
+        }
         if (!t->params().empty()) {
             o += "\n**Parameters**\n\n| name | type | default | unit | allowed | description |\n|---|---|---|---|---|---|\n";
             for (const auto& d : t->params())
@@ -75,6 +81,9 @@ std::string nodes_json(const graph::NodeRegistry& registry) {
             for (const auto& v : r.values) w.value(v);
             w.end_array().key("why").value(r.why).end_object();
         }
+        w.end_array();
+        w.key("fixed_outputs").begin_array();
+        for (const auto& f : t->fixed_outputs()) w.begin_object().key("name").value(f.name).key("when").value(f.when).end_object();
         w.end_array();
         w.key("params").begin_array();
         for (const auto& d : t->params()) {

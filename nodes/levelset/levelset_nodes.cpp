@@ -24,6 +24,7 @@ graph::NodeType from_mesh_node() {
     t.param_real("voxel_size", 0.01, "m", "r_f, the level-set resolution (App. A item 16)").above(0);
     t.param_real("half_width", 3, "voxels", "narrow-band half-width (the thesis uses 3)").range(2, 10);
     t.param_bool("write_vdb", false, "also write object.vdb into the output directory");
+    t.writes_fixed("object.vdb", "write_vdb");
     t.output<LevelSet>("level_set", "object signed distance grid [m]");
     t.run([](graph::NodeContext& c) {
         LevelSet ls;
@@ -99,6 +100,7 @@ graph::NodeType record_node() {
     t.input<std::vector<FrontMotion>>("fronts", "one front motion per crack, in crack order");
     t.optional_input<LevelSet>("object", "object grid for test (a); without it (a) is skipped");
     t.param_bool("write_vdb", false, "write the crack grids after this sub-step (App. A item 19) as cracks_<i>.vdb");
+    t.writes_fixed("cracks_*.vdb", "write_vdb");
     t.output<CrackLevelSets>("cracks", "updated crack grids");
     t.output<std::vector<std::vector<MarkerTest>>>("hits", "per crack, per marker: which case stopped it (or none)");
     t.run([](graph::NodeContext& c) {

@@ -147,6 +147,8 @@ graph::NodeType fronts_node() {
     t.param_bool("write_vdb", false, "write the crack grids after the step as cracks_step<s>.vdb (App. A item 18)");
     t.param_bool("write_substep_vdb", false,
                  "write the crack grids after every sub-step as cracks_step<s>_sub<k>.vdb (App. A item 19)");
+    t.writes_fixed("cracks_step*.vdb", "write_vdb");
+    t.writes_fixed("cracks_step*_sub*.vdb", "write_substep_vdb");
     t.output<propagate::FractureState>("state", "state after the step");
     t.output<bool>("continue", "true while the step added elements, markers still moved, or new cracks wait for their first SIFs");
     t.run(run_fronts);

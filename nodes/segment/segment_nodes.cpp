@@ -32,6 +32,8 @@ graph::NodeType fragments_node() {
                  "surface); 0 keeps every fragment")
         .range(0, 1e30);
     t.param_bool("write_listing", true, "write fragments.csv and fragments.json into the output directory");
+    t.writes_fixed("fragments.csv", "write_listing");
+    t.writes_fixed("fragments.json", "write_listing");
     t.output<Fragments>("fragments", "fragment grids with volume [m^3], bbox [m], centroid [m]");
     t.run([](graph::NodeContext& c) {
         const LevelSet& object = c.in<LevelSet>("object");
@@ -190,6 +192,9 @@ graph::NodeType export_fragments_node() {
                                      "the crack grids the fragments were cut with (same r_f, crack r = BEM crack "
                                      "region r); needed for 'continuous_and_opening' and 'close_gaps'");
     declare_export_fragments_params(t);
+    t.writes_fixed("<prefix>_*.<format>", "meshes");
+    t.writes_fixed("<prefix>s.vdb", "vdb");
+    t.writes_fixed("<prefix>s_preview.png", "preview");
     t.input_needed_when("solution", "displacement", {"continuous", "continuous_and_opening"},
                         "the BEM displacement that deforms the meshes");
     t.input_needed_when("cracks", "displacement", {"continuous_and_opening"},

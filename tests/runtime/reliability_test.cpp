@@ -359,3 +359,61 @@ TEST(Reliability, CtrlCStopsSegmentationAndPreviewWithinHalfASecond) {
         EXPECT_EQ(report["status"].as<std::string>(), "cancelled") << c.what;
     }
 }
+
+// Files nodes write under names of their own (object.vdb, fragments.csv, <prefix>s.vdb ...) are
+// checked by validate against the names parameters give and against each other, at FILE:LINE.
+TEST(Reliability, FixedOutputNamesAreCheckedByValidate) {
+    const auto dir = cf::testing::temp_dir("reliability-fixed-names");
+    const std::string head = "nodes:\n"
+                             "  box: {type: shape.box}\n"
+                             "  object: {type: levelset.from_mesh, inputs: {mesh: box.mesh}, params: {voxel_size: 0.05, write_vdb: true}}\n"
+                             "  fragments: {type: segment.fragments, inputs: {object: object.level_set}}\n"
+                             "  export: {type: export.fragments, inputs: {fragments: fragments.fragments}}\n"
+                             "  a: {type: core.real, params: {value: 1}}\n";
+    auto validate = [&](const std::string& name, const std::string& rest, const std::vector<std::string>& extra = {}) {
+        const auto file = dir / name;
+        std::ofstream(file) << head << rest;
+        std::vector<std::string> args{"validate", file.string()};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_limited(args);
+    };
+    // The pipeline alone is valid: a node's own fixed names do not collide with each other.
+    const Child ok = validate("ok.yaml", "");
+    EXPECT_EQ(ok.code(), 0) << ok.output;
+
+    const Child c = validate("collide.yaml",
+                             "  w1: {type: core.write_real, inputs: {value: a.value}, params: {path: object.vdb}}\n"
+                             "  w2: {type: core.write_real, inputs: {value: a.value}, params: {path: ./fragment_007.obj}}\n"
+                             "  w3: {type: core.write_real, inputs: {value: a.value}, params: {path: fragments.json}}\n"
+                             "  again: {type: export.fragments, inputs: {fragments: fragments.fragments}, params: {meshes: false}}\n");
+    EXPECT_EQ(c.code(), 2) << c.output;
+    EXPECT_NE(c.output.find("collide.yaml:7"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("parameter 'w1.path' ('object.vdb') names a file that node 'object' (levelset.from_mesh) writes "
+                            "under the fixed name 'object.vdb'"),
+              std::string::npos)
+        << c.output;
+    EXPECT_NE(c.output.find("set 'object.write_vdb' to false"), std::string::npos) << c.output;
+    // '*' of fragment_*.obj stands for the fragment index.
+    EXPECT_NE(c.output.find("collide.yaml:8"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("'w2.path' ('fragment_007.obj') names a file that node 'export' (export.fragments) writes under "
+                            "the fixed name 'fragment_*.obj'"),
+              std::string::npos)
+        << c.output;
+    EXPECT_NE(c.output.find("'w3.path' ('fragments.json') names a file that node 'fragments' (segment.fragments)"),
+              std::string::npos)
+        << c.output;
+    // Two nodes with the same fixed name: the later one is named, with its line.
+    EXPECT_NE(c.output.find("collide.yaml:10"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("node 'again' (export.fragments) writes 'fragments.vdb', a file that node 'export' "
+                            "(export.fragments) writes as 'fragments.vdb'"),
+              std::string::npos)
+        << c.output;
+
+    // What the parameters turn off or rename is not written, so it does not collide.
+    const Child off = validate("off.yaml",
+                               "  w1: {type: core.write_real, inputs: {value: a.value}, params: {path: object.vdb}}\n"
+                               "  w2: {type: core.write_real, inputs: {value: a.value}, params: {path: fragment_x.obj}}\n"
+                               "  again: {type: export.fragments, inputs: {fragments: fragments.fragments}, params: {prefix: piece}}\n",
+                               {"--set", "object.write_vdb=false"});
+    EXPECT_EQ(off.code(), 0) << off.output;
+}
