@@ -51,8 +51,9 @@ void declare_assemble_params(graph::NodeType& t) {
                    "triangles, is an error before assembling");
 }
 
-// The memory budget [bytes]: at most what this process may use.
-double assembly_memory_budget(graph::NodeContext& c) {
+// Parameter 'memory_budget' [GB] in bytes (0: the default, half of what this process may use); a
+// budget above what the process may use fails the node. assemble.sgbem and solve.sgbem.
+double memory_budget_param(graph::NodeContext& c) {
     const double available = available_memory_bytes();
     if (c.real("memory_budget") * 1e9 > available && available > 0) {
         std::ostringstream m;
@@ -74,7 +75,7 @@ bem::AssemblyRequest assembly_request(graph::NodeContext& c) {
     rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
     rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
     rq.options.single_layer = c.boolean("single_layer");
-    rq.options.memory_budget_bytes = assembly_memory_budget(c);
+    rq.options.memory_budget_bytes = memory_budget_param(c);
     rq.material.E = c.real("E");
     rq.material.nu = c.real("nu");
     if (c.has("material")) rq.material = c.in<Material>("material");
@@ -177,8 +178,14 @@ graph::NodeType solve_node() {
     t.param_real("crack_pressure", 0, "Pa", "pressure on both faces of every crack (0: traction-free)");
     t.param_real("balance_tolerance", 1e-3, "", "pure Neumann: largest accepted relative net force/torque of the loads")
         .above(0);
+    t.param_real("memory_budget", 0, "GB",
+                 "refuse a surface factor or crack Schur complement (eq. 4.3) whose dense matrices exceed this, before "
+                 "allocating them; 0: the budget of the assemble.sgbem that made the operators. May not exceed the "
+                 "physical memory")
+        .at_least(0);
     t.run([](graph::NodeContext& c) {
         const bem::BemOperators& ops = c.in<bem::BemOperators>("operators");
+        const double budget = memory_budget_param(c);
         const bem::BemSolution* prev = c.has("previous") ? &c.in<bem::BemSolution>("previous") : nullptr;
         std::shared_ptr<const bem::BemSolution> sol;
         try {
@@ -190,8 +197,11 @@ graph::NodeType solve_node() {
             if (ops.cracks) loads.pressure.assign(ops.cracks->cracks.num_regions(), c.real("crack_pressure"));
             bem::SolveOptions so;
             so.balance_tolerance = c.real("balance_tolerance");
+            if (c.real("memory_budget") > 0) so.memory_budget_bytes = budget;
             sol = bem::solve_sgbem(ops.surface, ops.solve_cracks(), bc, loads, prev, so, ops.estimated,
                                    c.has("reuse") ? c.in<bem::BemSolution>("reuse").system : nullptr);
+        } catch (const bem::MemoryBudgetExceeded& e) {
+            c.fail(std::string(e.what()) + " ('memory_budget' of this node, or of the assemble.sgbem that made the operators)");
         } catch (const std::invalid_argument& e) {
             c.fail(std::string("parameter boundary_conditions / inputs: ") + e.what());
         } catch (const std::runtime_error& e) {

@@ -31,7 +31,7 @@ void check_memory_budget(double bytes, double budget, const std::string& what) {
         os.precision(3);
         os << what << " needs " << bytes / 1e9 << " GB of dense matrices, above the memory budget of " << budget / 1e9
            << " GB; use a coarser BEM mesh (fewer triangles) or raise the memory budget parameter";
-        throw std::invalid_argument(os.str());
+        throw MemoryBudgetExceeded(os.str());
     }
 }
 

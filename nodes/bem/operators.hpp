@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace cf::bem {
@@ -66,7 +67,11 @@ struct CrackOperators {
 // Bytes the dense blocks of a surface with the given counts need (peak during assembly).
 double surface_operator_bytes(std::size_t triangles, std::size_t vertices, bool single_layer);
 double crack_operator_bytes(std::size_t surface_triangles, std::size_t surface_vertices, std::size_t crack_vertices);
-// Throws std::invalid_argument with both numbers and the way out when bytes > budget.
+// A dense allocation refused before it was made (more than the memory budget allows).
+struct MemoryBudgetExceeded : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+// Throws MemoryBudgetExceeded with both numbers and the way out when bytes > budget.
 void check_memory_budget(double bytes, double budget, const std::string& what);
 
 // Assembles V, K, D on a closed surface. Throws std::invalid_argument for degenerate triangles

@@ -195,10 +195,25 @@ void check_balance(const SurfaceOperators& o, const ResolvedConditions& bc, cons
     }
 }
 
-// Surface factorisation: reuse when operators and partition are the same.
+// The solve's memory budget [bytes]: its own, or the one the surface operators were assembled with.
+double solve_budget(const SurfaceOperators& o, const SolveOptions& options) {
+    return options.memory_budget_bytes >= 0 ? options.memory_budget_bytes : o.options.memory_budget_bytes;
+}
+
+// Dense bytes of a Schur complement on k crack unknowns over a surface system of n unknowns: the
+// coupling B and C (n x k each), Z = A^-1 B, and S, its Cholesky factor and the Y block (k x k).
+double schur_bytes(double n, double k) { return 8.0 * (3 * n * k + 3 * k * k); }
+// Its extension from ko to ko + kn unknowns: the new columns' B, C and Z, the new Z and L (the old
+// ones are kept by the previous solution), and the blocks Son, Sno, LnoT, Snn.
+double schur_extension_bytes(double n, double ko, double kn) {
+    return 8.0 * (3 * n * kn + n * (ko + kn) + (ko + kn) * (ko + kn) + 3 * ko * kn + 2 * kn * kn);
+}
+
+// Surface factorisation: reuse when operators and partition are the same; a new one is checked
+// against the budget first.
 void choose_surface_system(const std::shared_ptr<const SurfaceOperators>& surface, const ResolvedConditions& bc,
                            const BemSolution* previous, const std::shared_ptr<const SurfaceSystem>& surface_factor,
-                           BemSolution& sol) {
+                           double budget, BemSolution& sol) {
     if (previous && previous->system && previous->system->ops == surface && previous->system->dirichlet == bc.dirichlet) {
         sol.system = previous->system;
         sol.reused_surface_factor = true;
@@ -206,6 +221,14 @@ void choose_surface_system(const std::shared_ptr<const SurfaceOperators>& surfac
         sol.system = surface_factor;
         sol.reused_surface_factor = true;
     } else {
+        // The factor's dense blocks: V_DD, the complement S and V^-1 K_DN (or D_R of eq. 7.4 and
+        // the Gram product it is formed from), before any is allocated.
+        double nd = 0, nn = 0;
+        for (char d : bc.dirichlet) nd += d ? 3 : 0;
+        for (char fixed : bc.node_fixed) nn += fixed ? 0 : 3;
+        const double n3 = 3.0 * double(bc.node_fixed.size());
+        const double bytes = bc.pure_neumann() ? 8.0 * 2 * n3 * n3 : 8.0 * (nd * nd + nn * nn + nd * nn);
+        check_memory_budget(bytes, budget, "factorising the surface system (" + std::to_string(std::size_t(nd + nn)) + " unknowns)");
         sol.system = factor_surface(surface, bc);
     }
 }
@@ -284,7 +307,7 @@ bool can_extend_schur(const CrackOperators& cr, const BemSolution* previous, con
 // The old Schur factor (eq. 4.3) extended by the rows of the interior nodes that were no unknown
 // before: a block Cholesky update, the old rows untouched.
 void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const CrackSchur& old,
-                  const std::vector<char>& interior, CrackSchur& schur, BemSolution& sol) {
+                  const std::vector<char>& interior, double budget, CrackSchur& schur, BemSolution& sol) {
     std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
     for (int v : old.dof_nodes) was_dof[v] = 1;
     std::vector<int> fresh;
@@ -303,6 +326,8 @@ void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const Crac
     }
     const Eigen::Index ko = 3 * static_cast<Eigen::Index>(old.dof_nodes.size());
     const Eigen::Index kn = 3 * static_cast<Eigen::Index>(fresh.size());
+    check_memory_budget(schur_extension_bytes(double(sys.size()), double(ko), double(kn)), budget,
+                        "extending the crack Schur complement (eq. 4.3) to " + std::to_string(ko + kn) + " crack unknowns");
     const CrackCoupling cn = coupling(sys, cr, fresh);
     const Matrix Zn = solve_matrix(sys, cn.B);
     const auto io = dofs3(old.dof_nodes), in = dofs3(fresh);
@@ -349,9 +374,12 @@ std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<cha
 }
 
 // The Schur complement S = Y - C A^-1 B on the crack unknowns (eq. 4.3), factorised anew.
-void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<char>& interior,
+void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<char>& interior, double budget,
                   CrackSchur& schur, BemSolution& sol) {
     schur.dof_nodes = crack_dof_nodes(cr, interior);
+    check_memory_budget(schur_bytes(double(sys.size()), 3.0 * double(schur.dof_nodes.size())), budget,
+                        "the crack Schur complement (eq. 4.3) on " + std::to_string(3 * schur.dof_nodes.size()) +
+                            " crack unknowns");
     const CrackCoupling c = coupling(sys, cr, schur.dof_nodes);
     schur.Z = solve_matrix(sys, c.B);
     const auto ic = dofs3(schur.dof_nodes);
@@ -385,8 +413,11 @@ std::vector<Vec3> solve_cracks(const SurfaceSystem& sys, const CrackOperators& c
     const std::vector<char> interior = crack_interior_nodes(cr.cracks);
     auto schur = std::make_shared<CrackSchur>();
     schur->crack_triangles = cr.cracks.num_triangles();
-    if (can_extend_schur(cr, previous, sol, interior, options)) extend_schur(sys, cr, *previous->schur, interior, *schur, sol);
-    else factor_schur(sys, cr, interior, *schur, sol);
+    const double budget = solve_budget(*sys.ops, options);
+    if (can_extend_schur(cr, previous, sol, interior, options))
+        extend_schur(sys, cr, *previous->schur, interior, budget, *schur, sol);
+    else
+        factor_schur(sys, cr, interior, budget, *schur, sol);
     // Right-hand side of the crack rows: face loads minus known surface data.
     const auto ic = dofs3(schur->dof_nodes);
     const Vector load = crack_face_loads(cr, loads);
@@ -484,7 +515,7 @@ std::shared_ptr<const BemSolution> solve_sgbem(const std::shared_ptr<const Surfa
     sol->cracks = cracks;
     // 1. Pure Neumann: balanced loads. 2. The surface factorisation, reused where possible.
     if (bc.pure_neumann()) check_balance(o, bc, options, *sol);
-    choose_surface_system(surface, bc, previous, surface_factor, *sol);
+    choose_surface_system(surface, bc, previous, surface_factor, solve_budget(o, options), *sol);
     const SurfaceSystem& sys = *sol->system;
     // 3. Right-hand side, with estimated growth (ch. 5.2) if any, and the surface solve.
     const KnownData known = known_data(bc, M, N);

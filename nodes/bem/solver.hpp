@@ -49,6 +49,10 @@ struct CrackSchur {
 struct SolveOptions {
     double balance_tolerance = 1e-3;  // pure Neumann: max relative net force / torque of the loads
     bool extend_schur = true;         // false: always refactor the Schur complement (for benchmarks)
+    // Dense matrices of the surface factor and the crack Schur complement are estimated before they
+    // are allocated and refused above this (bytes); < 0: the budget the surface operators were
+    // assembled with.
+    double memory_budget_bytes = -1;
 };
 
 struct BemSolution {

@@ -417,3 +417,62 @@ TEST(Reliability, FixedOutputNamesAreCheckedByValidate) {
                                {"--set", "object.write_vdb=false"});
     EXPECT_EQ(off.code(), 0) << off.output;
 }
+
+// Memory of the solve and of a mesh import is estimated before it is allocated: the surface
+// factor and the crack Schur complement against solve.sgbem's memory_budget, a mesh file against
+// the memory the process may use (a 3 GB file under a 2 GB cap was read whole, then bad_alloc).
+TEST(Reliability, SolveAndImportMemoryIsEstimatedFirst) {
+    const auto dir = cf::testing::temp_dir("reliability-memory-solve");
+    const std::string mode1 = src("pipelines/edge_crack_mode1.yaml");
+    // The first solve factorises the surface (about 2 MB for 300 triangles): refused at 10 kB.
+    const Child factor = run_limited({"run", mode1, "--fast", "--set", "solve0.memory_budget=1e-5", "--out", (dir / "a").string()});
+    EXPECT_EQ(factor.code(), 1) << factor.output;
+    EXPECT_NE(factor.output.find("node 'solve0'"), std::string::npos) << factor.output;
+    EXPECT_NE(factor.output.find("factorising the surface system"), std::string::npos) << factor.output;
+    EXPECT_NE(factor.output.find("above the memory budget of 1e-05 GB"), std::string::npos) << factor.output;
+    EXPECT_NE(factor.output.find("'memory_budget' of this node"), std::string::npos) << factor.output;
+    // The loop's solve reuses that factor; its crack Schur complement is what is refused.
+    const Child schur = run_limited({"run", mode1, "--fast", "--set", "solve.memory_budget=1e-5", "--out", (dir / "b").string()});
+    EXPECT_EQ(schur.code(), 1) << schur.output;
+    EXPECT_NE(schur.output.find("node 'solve'"), std::string::npos) << schur.output;
+    EXPECT_NE(schur.output.find("crack Schur complement (eq. 4.3)"), std::string::npos) << schur.output;
+    EXPECT_NE(schur.output.find("above the memory budget of 1e-05 GB"), std::string::npos) << schur.output;
+    EXPECT_EQ(schur.output.find("factorising the surface system"), std::string::npos) << schur.output;
+    // A budget above the machine is refused for the solve as for the assembly.
+    const Child huge = run_limited({"run", mode1, "--fast", "--set", "solve0.memory_budget=1e6", "--out", (dir / "c").string()});
+    EXPECT_EQ(huge.code(), 1) << huge.output;
+    EXPECT_NE(huge.output.find("'memory_budget' is 1e+06 GB, more than the"), std::string::npos) << huge.output;
+
+    // A sparse 3 GB binary STL (header and triangle count consistent with its size, no disk used)
+    // imported under a 2 GB address-space cap.
+    const auto stl = dir / "huge.stl";
+    {
+        const std::uint64_t triangles = 60'000'000;  // 84 + 50 n bytes = 3.0 GB
+        std::ofstream out(stl, std::ios::binary);
+        const char header[80] = "binary STL";
+        out.write(header, 80);
+        const std::uint32_t n = std::uint32_t(triangles);
+        out.write(reinterpret_cast<const char*>(&n), 4);
+    }
+    std::filesystem::resize_file(stl, 84 + 50 * std::uint64_t(60'000'000));
+    const auto yaml = dir / "import.yaml";
+    std::ofstream(yaml) << "nodes:\n  mesh: {type: import.mesh, params: {path: " << stl.string() << "}}\n";
+    int fd = -1;
+    const pid_t pid = spawn_crackflow({"run", yaml.string(), "--out", (dir / "d").string()}, fd, [] {
+        rlimit lim{rlim_t(2) << 30, rlim_t(2) << 30};
+        setrlimit(RLIMIT_AS, &lim);
+    });
+    ASSERT_GT(pid, 0);
+    Child imp;
+    char buf[4096];
+    ssize_t got;
+    while ((got = read(fd, buf, sizeof buf)) > 0) imp.output.append(buf, std::size_t(got));
+    close(fd);
+    waitpid(pid, &imp.status, 0);
+    EXPECT_EQ(imp.code(), 1) << imp.output;
+    EXPECT_NE(imp.output.find("node 'mesh'"), std::string::npos) << imp.output;
+    EXPECT_NE(imp.output.find("huge.stl: error: importing this 3 GB file needs about"), std::string::npos) << imp.output;
+    EXPECT_NE(imp.output.find("more than the 2.15 GB this process may use"), std::string::npos) << imp.output;
+    EXPECT_EQ(imp.output.find("bad_alloc"), std::string::npos) << imp.output;
+    std::filesystem::remove(stl);
+}
