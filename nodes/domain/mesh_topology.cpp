@@ -141,6 +141,22 @@ MeshTopologyReport check_topology(const SurfaceMesh& m, double degenerate_ratio)
     return r;
 }
 
+std::vector<int> triangle_components(const SurfaceMesh& m) {
+    MeshTopologyReport r;
+    TriangleScan s = scan_triangles(m, 0, r);
+    DisjointSets pieces(m.triangles.size());
+    count_edges(s.half, pieces, r);
+    std::vector<int> label(m.triangles.size(), -1), of_root(m.triangles.size(), -1);
+    int n = 0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        if (!s.valid[t]) continue;
+        int& root_label = of_root[pieces.find(t)];
+        if (root_label < 0) root_label = n++;
+        label[t] = root_label;
+    }
+    return label;
+}
+
 std::string MeshTopologyReport::describe() const {
     std::string s;
     auto add = [&s](std::size_t n, const char* what) {

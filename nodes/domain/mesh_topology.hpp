@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace cf {
 
@@ -38,5 +39,10 @@ struct MeshTopologyReport {
 // degenerate_ratio * (longest edge)^2, i.e. its height over the longest edge is that small a
 // fraction of the edge: scale-free, so it works in millimetres and kilometres alike.
 MeshTopologyReport check_topology(const SurfaceMesh& mesh, double degenerate_ratio = 1e-12);
+
+// The edge-connected piece of every triangle, numbered 0, 1, ... in the order of each piece's first
+// triangle (check_topology's `components` pieces); -1 for a triangle with an invalid index or a
+// repeated corner.
+std::vector<int> triangle_components(const SurfaceMesh& mesh);
 
 }  // namespace cf

@@ -17,9 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <map>
-#include <numeric>
 #include <limits>
 #include <stdexcept>
 
@@ -80,42 +78,27 @@ namespace {
 // the main one). Specks are dropped; two large shells are an error (the caller's fallback: the
 // fragment collides but does not break again).
 SurfaceMesh single_shell(const SurfaceMesh& m) {
-    std::vector<int> parent(m.vertices.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    const std::function<int(int)> root = [&](int v) { return parent[v] == v ? v : parent[v] = root(parent[v]); };
-    for (const Tri& t : m.triangles) parent[root(t[1])] = parent[root(t[2])] = root(t[0]);
-    std::map<int, std::vector<std::size_t>> shells;  // by root vertex: triangle indices
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) shells[root(m.triangles[t][0])].push_back(t);
-    if (shells.size() <= 1) return m;
-    auto extract = [&](const std::vector<std::size_t>& tris) {
-        SurfaceMesh out;
-        out.region_names = m.region_names;
-        std::vector<int> index(m.vertices.size(), -1);
-        for (std::size_t t : tris) {
-            Tri tri = m.triangles[t];
-            for (int& v : tri) {
-                if (index[v] < 0) {
-                    index[v] = static_cast<int>(out.vertices.size());
-                    out.vertices.push_back(m.vertices[v]);
-                }
-                v = index[v];
-            }
-            out.triangles.push_back(tri);
-            if (!m.region.empty()) out.region.push_back(m.region[t]);
-        }
-        return out;
-    };
-    std::vector<SurfaceMesh> pieces;
-    std::vector<double> volumes;
-    for (const auto& [r, tris] : shells) {
-        pieces.push_back(extract(tris));
-        volumes.push_back(std::abs(signed_volume(pieces.back())));
+    const std::vector<int> piece = triangle_components(m);
+    const int n = piece.empty() ? 0 : *std::max_element(piece.begin(), piece.end()) + 1;
+    if (n <= 1) return m;
+    std::vector<SurfaceMesh> shells(static_cast<std::size_t>(n));
+    for (SurfaceMesh& sh : shells) {
+        sh.vertices = m.vertices;
+        sh.region_names = m.region_names;
     }
-    const std::size_t k = static_cast<std::size_t>(std::max_element(volumes.begin(), volumes.end()) - volumes.begin());
-    const auto large = std::count_if(volumes.begin(), volumes.end(), [&](double v) { return v >= 0.02 * volumes[k]; });
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        if (piece[t] < 0) continue;
+        SurfaceMesh& sh = shells[static_cast<std::size_t>(piece[t])];
+        sh.triangles.push_back(m.triangles[t]);
+        if (!m.region.empty()) sh.region.push_back(m.region[t]);
+    }
+    std::vector<double> volume;
+    for (const SurfaceMesh& sh : shells) volume.push_back(std::abs(signed_volume(sh)));
+    const std::size_t k = static_cast<std::size_t>(std::max_element(volume.begin(), volume.end()) - volume.begin());
+    const auto large = std::count_if(volume.begin(), volume.end(), [&](double v) { return v >= 0.02 * volume[k]; });
     if (large > 1)
         throw std::runtime_error("remeshed fragment falls apart into " + std::to_string(large) + " large shells");
-    return pieces[k];
+    return without_unused_vertices(shells[k]);
 }
 
 // How far `m` lies inside `object` [m]: the largest depth of its vertices, edge midpoints and

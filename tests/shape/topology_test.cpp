@@ -99,4 +99,17 @@ TEST(MeshTopology, SliverThresholdIsScaleFree) {
 }
 
 }  // namespace
+// triangle_components labels the pieces check_topology counts: two tetrahedra, the second's
+// triangles listed between the first's, and a triangle with a repeated corner (-1).
+TEST(MeshTopology, TriangleComponentsLabelEachPieceInOrderOfFirstTriangle) {
+    SurfaceMesh m = tetrahedron();
+    const SurfaceMesh b = tetrahedron(Vec3(5, 0, 0));
+    m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+    m.triangles.insert(m.triangles.begin() + 2, {{4, 6, 5}, {4, 5, 7}, {4, 7, 6}, {5, 6, 7}});
+    m.triangles.push_back({0, 0, 1});
+    const std::vector<int> label = triangle_components(m);
+    EXPECT_EQ(label, (std::vector<int>{0, 0, 1, 1, 1, 1, 0, 0, -1}));
+    EXPECT_EQ(check_topology(m).components, 2u);
+}
+
 }  // namespace cf
