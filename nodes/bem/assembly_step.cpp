@@ -84,13 +84,20 @@ const CrackOpeningEstimate& openings_to_integrate(const AssemblyRequest& rq) {
     return (rq.openings && rq.opening_update) ? *rq.openings : no_openings();
 }
 
-// Already estimating: integrate the openings that joined.
+// Already estimating: integrate the openings that joined. A step that initiated nothing in a
+// body without cracks (a rigid-body collision whose stresses stay below the strength everywhere,
+// method estimator) keeps the empty crack set; crack sheets that vanish are an error.
 void continue_estimating(const AssemblyRequest& rq, const BemOperators& reuse, BemOperators& out, AssemblyReport& rep) {
+    static const SurfaceMesh no_cracks;
     out.cracks = reuse.cracks;
-    if (!(rq.cracks && rq.cracks->num_triangles() > 0))
-        throw std::invalid_argument("input 'cracks' is empty but the previous step had crack sheets");
-    need_openings(rq, out.method, *rq.cracks, reuse.estimated->frozen_vertices);
-    out.estimated = update_estimated_growth(*out.surface, reuse.estimated, *rq.cracks, 0, 0, openings_to_integrate(rq), rq.step);
+    const bool given = rq.cracks && rq.cracks->num_triangles() > 0;
+    if (!given && reuse.estimated->cracks.num_triangles() > 0)
+        throw std::invalid_argument("input 'cracks' is empty but the previous step had " +
+                                    std::to_string(reuse.estimated->cracks.num_triangles()) +
+                                    " crack triangles; connect the 'cracks' of the same fracture state as 'previous'");
+    const SurfaceMesh& cracks = given ? *rq.cracks : no_cracks;
+    need_openings(rq, out.method, cracks, reuse.estimated->frozen_vertices);
+    out.estimated = update_estimated_growth(*out.surface, reuse.estimated, cracks, 0, 0, openings_to_integrate(rq), rq.step);
     rep.estimated = true;
     rep.crack_pairs = out.estimated->pairs_last;
 }
