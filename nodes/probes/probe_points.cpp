@@ -1,10 +1,13 @@
 #include "nodes/probes/probe_points.hpp"
 
+#include "graph/cancel_token.hpp"
 #include "graph/diagnostics.hpp"
 #include "nodes/bem/interior_evaluation.hpp"
 #include "nodes/initiate/surface_queries.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <stdexcept>
 
 namespace cf::probes {
@@ -84,12 +87,21 @@ std::vector<ProbeSample> probe_slice(const bem::BemSolution& sol, const GridSlic
     const double tol = surface_tolerance(surface);
     const std::vector<Vec3> all = slice.points();
     const SurfaceMesh* cracks = include_cracks ? bem::current_crack_mesh(sol) : nullptr;
+    // Each test is a pass over the surface (winding number, distance): for a large slice that is
+    // seconds, so it runs in parallel and polls for Ctrl-C; the kept points stay in grid order.
+    std::vector<char> keep(all.size(), 0);
+    const CancelToken cancel = CancelToken::current();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, all.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        cancel.poll();
+        for (std::size_t k = r.begin(); k != r.end(); ++k)
+            // A grid point on a crack sheet (a slice through a crack's plane) has two displacements: left out.
+            keep[k] = strictly_inside(surface, tol, all[k]) &&
+                      !(cracks && cracks->num_triangles() > 0 && initiate::distance_to_mesh(*cracks, all[k]) <= tol);
+    });
     std::vector<Vec3> inside;
     std::vector<int> index;
     for (std::size_t k = 0; k < all.size(); ++k)
-        // A grid point on a crack sheet (a slice through a crack's plane) has two displacements: left out.
-        if (strictly_inside(surface, tol, all[k]) &&
-            !(cracks && cracks->num_triangles() > 0 && initiate::distance_to_mesh(*cracks, all[k]) <= tol)) {
+        if (keep[k]) {
             inside.push_back(all[k]);
             index.push_back(static_cast<int>(k));
         }

@@ -265,6 +265,22 @@ TEST(Reliability, CtrlCStopsLongNodesWithinHalfASecond) {
     }
 }
 
+// Interior evaluation (export.probes) polls per block of points: a 1000 x 1000 slice through the
+// pressure_sphere ball (10^6 points against 320 elements, tens of seconds) stops within the bound.
+TEST(Reliability, CtrlCStopsInteriorEvaluationWithinHalfASecond) {
+    const auto dir = cf::testing::temp_dir("reliability-ctrlc-probes");
+    const std::vector<std::string> args{"run", src("pipelines/pressure_sphere.yaml"), "--threads", "2", "--out", dir.string(),
+                                        "--set", "slice.slice_u_points=1000", "--set", "slice.slice_v_points=1000"};
+    const Interrupted r = interrupt_when(args, "start  slice", 1.0, SIGINT);
+    ASSERT_TRUE(WIFEXITED(r.status)) << r.output;
+    EXPECT_EQ(WEXITSTATUS(r.status), 130) << r.output;
+    std::printf("slice of 10^6 probe points: exit %.3f s after SIGINT\n", r.seconds);
+    EXPECT_LT(r.seconds, 0.5 + 0.5);
+    EXPECT_EQ(r.output.find("done   slice"), std::string::npos) << r.output;
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+    EXPECT_EQ(report["status"].as<std::string>(), "cancelled");
+}
+
 // Memory: the loop's assembly honours its own memory_budget (it used the first assembly's when
 // 'previous' was connected); a budget above the memory the process may use is refused; a remesh
 // whose dense mesh would not fit is refused naming the voxel size, instead of a bare bad_alloc.
