@@ -2,9 +2,12 @@
 
 #include "graph/diagnostics.hpp"
 #include "nodes/propagate/opening_estimate.hpp"
+#include "nodes/bem/element_geometry.hpp"
+#include "nodes/bem/surface_intersection.hpp"
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <set>
@@ -188,6 +191,23 @@ public:
         state_.grids = recorder.release();  // recording is done; growth only samples the grids
     }
 
+    // Whether the triangle (a, b, c) touches or crosses the ordinary BEM surface (the assembly's own
+    // test, bem::triangles_intersect); the surface's element geometry is built on first use.
+    bool crosses_bem_surface(const Vec3& a, const Vec3& b, const Vec3& c) {
+        if (surface_elements_.empty())
+            surface_elements_ = bem::element_geometries(*settings_.bem_surface, "ordinary BEM surface");
+        bem::ElementGeometry t;
+        t.p = {a, b, c};
+        const Vec3 n = (b - a).cross(c - a);
+        if (!(n.norm() > 0)) return true;  // degenerate: never an element
+        t.normal = n.normalized();
+        t.centroid = (a + b + c) / 3.0;
+        t.diameter = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+        for (const bem::ElementGeometry& s : surface_elements_)
+            if (bem::triangles_intersect(t, s)) return true;
+        return false;
+    }
+
     // New BEM elements (fig. 16), away from the object's surface and from other cracks.
     void grow_fronts() {
         const auto t0 = Clock::now();
@@ -204,6 +224,9 @@ public:
                 return true;
             };
             if (object_) gs.inside = [&](const Vec3& p) { return sample(*object_, p) < 0; };
+            if (settings_.bem_surface) gs.crosses_surface = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+                return crosses_bem_surface(a, b, c);
+            };
             const FrontGrowth g = grow_front(state_.cracks, fs.front, fs.markers, gs);
             rep_.openings_estimated +=
                 estimate_openings_left_behind(state_.cracks, fs.front, g.front, law_.E, law_.nu, state_.openings);
@@ -315,6 +338,7 @@ private:
     FractureState& state_;
     const ScalarField& toughness_;
     const LevelSet* object_;
+    std::vector<bem::ElementGeometry> surface_elements_;  // of settings_.bem_surface, built on first use
     const StepSettings& settings_;
     PropagationSettings law_;
     int per_edge_ = 0, n_ = 0;  // markers per edge, sub-steps

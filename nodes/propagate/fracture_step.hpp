@@ -18,6 +18,9 @@ struct StepSettings {
     int substeps = 0;             // sub-steps per BEM step; 0: n = ceil(r_c / r_f) (ch. 4.5.2)
     double surface_margin = 0;    // new BEM nodes stay at least this deep inside the object [m]
     double crack_margin = 0;      // ... and this far outside other cracks' recorded volumes [m]
+    // The ordinary BEM surface the next assembly solves on (may be null): new crack triangles that
+    // touch or cross it are held back this step (front_growth.hpp, crosses_surface).
+    const SurfaceMesh* bem_surface = nullptr;
 };
 
 struct StepReport {

@@ -236,7 +236,8 @@ private:
                     if (i == 4 || j == 4 || k == 4) continue;  // the corners: nodes are checked on their own
                     crosses = !s_.inside((i * a + j * b + k * c) / 4.0);
                 }
-        return quality >= s_.min_quality && oriented && !crosses;
+        if (!(quality >= s_.min_quality && oriented && !crosses)) return false;
+        return !(s_.crosses_surface && s_.crosses_surface(a, b, c));
     }
 
     // Markers: the fine front is kept where it is and re-divided locally: the markers between the

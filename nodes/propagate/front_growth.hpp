@@ -33,6 +33,12 @@ struct GrowthSettings {
     // crosses a concave part of the surface (a notch between two admissible nodes) and is undone
     // like a folded one: its new nodes stay on the front this step.
     std::function<bool(const Vec3&)> inside;
+    // Whether a new triangle (corners a, b, c) touches or crosses the ordinary BEM surface (empty:
+    // never). The BEM surface stands off the object's surface by up to half a voxel inwards between
+    // its sample points, so a triangle inside the object by the lattice test can still cut it where
+    // a small fragment is thin or concave; the assembly would refuse it (sgbem-math §2), so it is
+    // undone like a folded one.
+    std::function<bool(const Vec3&, const Vec3&, const Vec3&)> crosses_surface;
 };
 
 struct FrontGrowth {

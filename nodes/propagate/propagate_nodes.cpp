@@ -112,7 +112,8 @@ void run_fronts(graph::NodeContext& c) {
         c.fail("input 'toughness' is a " + std::string(quantity_name(toughness.quantity)) +
                " field; connect a field with quantity: toughness");
     const LevelSet* object = c.has("object") ? &c.in<LevelSet>("object") : nullptr;
-    const propagate::StepSettings set = step_settings(c, s, object);
+    propagate::StepSettings set = step_settings(c, s, object);
+    if (c.has("surface")) set.bem_surface = &c.in<SurfaceMesh>("surface");
     const propagate::SubstepObserver observer = substep_observer(c, s.step);
     propagate::StepReport r;
     try {
@@ -140,6 +141,10 @@ graph::NodeType fronts_node() {
     t.input<ScalarField>("toughness", "toughness field K_c [Pa*sqrt(m)] with its compressive factor f_c");
     t.input<Material>("material", "E, nu, rho (c_R = 0.9 sqrt(mu/rho) sets the simulated time)");
     t.optional_input<LevelSet>("object", "object level set: markers leaving it stop (fig. 27 a); without it they never do");
+    t.optional_input<SurfaceMesh>("surface",
+                                  "the ordinary BEM surface the next assembly solves on: new crack elements that touch or "
+                                  "cross it wait (the assembly would refuse them; it can stand inside the object by up to "
+                                  "half a voxel where a fragment is thin or concave)");
     t.param_int("substeps", 0, "sub-steps per BEM step; 0: n = ceil(r_c / r_f) as in the thesis").at_least(0);
     t.param_real("surface_margin", 1, "voxels", "new BEM crack nodes stay this many r_f inside the object").at_least(0);
     t.param_real("crack_margin", 0, "voxels", "new BEM crack nodes stay this many r_f outside other cracks' volumes")

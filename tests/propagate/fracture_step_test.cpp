@@ -2,6 +2,8 @@
 // tension, solved by the SGBEM: symmetry (mode I stays planar), growth outward by about n r_f,
 // geometry tests, waiting fronts, and thread-count independence.
 #include "nodes/bem/displacement_correlation.hpp"
+#include "nodes/bem/element_geometry.hpp"
+#include "nodes/bem/surface_intersection.hpp"
 #include "nodes/bem/solver.hpp"
 #include "nodes/bem/test_meshes.hpp"
 #include "nodes/fields/closed_form_fields.hpp"
@@ -190,4 +192,38 @@ TEST(FractureStep, MarkersThatLeaveTheObjectStopAndNodesStayInside) {
     for (const Vec3& v : c.state.cracks.vertices) EXPECT_LT(v.x(), 0.5 * L - r_f * (1 - 1e-9));
     // The recorded crack reaches the face: the thickened volume covers the point just inside it.
     EXPECT_LT(sample(c.state.grids.cracks.at(0), Vec3(0.5 * L - 0.5 * r_f, 0, 0)), 0);
+}
+
+// The BEM surface can stand inside the object (by up to half a voxel between its sample points, more
+// where a scene's small fragment is thin): new crack elements that would touch or cross it wait, as
+// the assembly would refuse them (a falling_objects fracture run failed so). Here the BEM surface is
+// a cube of half-side 0.28 inside the level set's unit cube; the penny's rim at 0.2 grows by about
+// r_c = 0.1, across that cube's faces along x and y but not along the diagonals (corner 0.40).
+TEST(FractureStep, NewElementsStayClearOfTheBemSurface) {
+    const SurfaceMesh inner = bem::bem_cube_mesh(2, 0.56);
+    const std::vector<bem::ElementGeometry> walls = bem::element_geometries(inner, "inner cube");
+    auto crossing = [&](const FractureState& s, std::size_t first) {
+        std::size_t n = 0;
+        for (std::size_t t = first; t < s.cracks.num_triangles(); ++t) {
+            const bem::ElementGeometry e = bem::element_geometry(s.cracks, t);
+            for (const bem::ElementGeometry& w : walls)
+                if (bem::triangles_intersect(e, w)) {
+                    ++n;
+                    break;
+                }
+        }
+        return n;
+    };
+    Case free_case = penny_case(Vec3::Zero(), 0.2);
+    const std::size_t t0 = free_case.state.cracks.num_triangles();
+    ASSERT_EQ(crossing(free_case.state, 0), 0u);
+    propagate_step(free_case.state, free_case.sifs, toughness(1e5), &cube_level_set(), settings());
+    EXPECT_GT(crossing(free_case.state, t0), 0u) << "without the surface the growth crosses the inner cube";
+
+    Case c = penny_case(Vec3::Zero(), 0.2);
+    StepSettings s = settings();
+    s.bem_surface = &inner;
+    const StepReport r = propagate_step(c.state, c.sifs, toughness(1e5), &cube_level_set(), s);
+    EXPECT_GT(r.elements_added, 0u);
+    EXPECT_EQ(crossing(c.state, t0), 0u);
 }
