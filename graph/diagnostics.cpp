@@ -11,6 +11,7 @@ std::string format(const Diagnostic& d) {
     std::string s = d.loc.file.empty() ? std::string("<pipeline>") : d.loc.file;
     if (d.loc.line > 0) s += ":" + std::to_string(d.loc.line) + ":" + std::to_string(d.loc.column);
     s += ": error: " + d.message;
+    if (!d.loc.via.empty()) s += "\n  in a sub-pipeline used at " + d.loc.via;
     if (!d.hint.empty()) s += "\n  hint: " + d.hint;
     return s;
 }

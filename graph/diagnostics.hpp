@@ -11,6 +11,9 @@ struct SourceLoc {
     std::string file;
     int line = 0;    // 1-based; 0 = unknown
     int column = 0;  // 1-based
+    // Inside a sub-pipeline: where it is used, "FILE:LINE:COL (node 'NAME')" (outermost last,
+    // separated by ", used at "); empty in the top file.
+    std::string via = {};
 };
 
 struct Diagnostic {

@@ -27,6 +27,7 @@ struct ParamDecl {
     std::vector<std::string> choices;          // for Choice
     std::optional<std::size_t> list_size;      // for RealList with a fixed length
     bool output_file = false;                  // names a file the node writes (checked by validate)
+    bool input_file = false;                   // names a file the node reads (resolved by the loader)
     // For String parameters with a syntax of their own (e.g. boundary conditions): returns why the
     // text is not acceptable, empty when it is. Run by check(), so `validate` reports it at FILE:LINE.
     std::function<std::string(const std::string&)> text_check;
@@ -44,6 +45,10 @@ struct ParamDecl {
     // refuse absolute paths (unless allowed), paths leaving --out, report.json and two nodes
     // naming the same file (graph/output_paths.hpp).
     ParamDecl& writes_file() { output_file = true; return *this; }
+    // A String naming a file the node reads: the loader resolves a relative path beside the
+    // pipeline file, then on the data search path, and hands the node an absolute path
+    // (graph/input_paths.hpp); validate reports a file that is not found, with every path tried.
+    ParamDecl& reads_file() { input_file = true; return *this; }
     ParamDecl& checked_by(std::function<std::string(const std::string&)> f) { text_check = std::move(f); return *this; }
 
     bool is_required() const { return !default_value.has_value(); }

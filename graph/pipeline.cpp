@@ -1,12 +1,13 @@
 #include "graph/pipeline.hpp"
 
-#include "graph/loop_type.hpp"
+#include "graph/pipeline_loader.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -21,97 +22,23 @@ int Plan::find(const std::string& name) const {
     return -1;
 }
 
-namespace {
+namespace detail {
 
-const char* const kLoopType = kLoopTypeName;
+Loader::Loader(std::string file, const NodeRegistry& reg, std::vector<Diagnostic>& diags)
+    : file_(std::move(file)), reg_(reg), diags_(diags) {
+    Scope top;
+    top.file = file_;
+    std::error_code ec;
+    top.dir = std::filesystem::absolute(std::filesystem::path(file_), ec).parent_path();
+    scopes_.push_back(std::move(top));
+}
 
-// A node entry as written, before type checking.
-struct RawNode {
-    std::string name;
-    SourceLoc loc;
-    std::string type;
-    SourceLoc type_loc;
-    struct Param {
-        std::string name;
-        YAML::Node value;
-        SourceLoc key_loc, value_loc;  // overrides carry their own (--set or the fast: entry)
-    };
-    std::vector<Param> params;  // in file order; overrides replace
-    std::vector<std::pair<std::string, YAML::Node>> inputs;
-    std::vector<std::pair<std::string, YAML::Node>> next;
-    YAML::Node while_node;
-    bool has_while = false;
-    int body_of = -1;  // raw index of the loop holding this node
-};
-
-class Loader {
-public:
-    Loader(std::string file, const NodeRegistry& reg, std::vector<Diagnostic>& diags)
-        : file_(std::move(file)), reg_(reg), diags_(diags) {}
-
-    SourceLoc loc(const YAML::Node& n) const {
-        YAML::Mark m = n.Mark();
-        if (m.is_null()) return {file_, 0, 0};
-        return {file_, m.line + 1, m.column + 1};
-    }
-    void error(const SourceLoc& l, std::string msg, std::string hint = "") {
-        diags_.push_back({l, std::move(msg), std::move(hint)});
-    }
-
-    Plan load(const YAML::Node& root, const LoadOptions& options);
-
-private:
-    // The steps of load(), in order.
-    bool read_top_level(const YAML::Node& root, YAML::Node& nodes, YAML::Node& fast, bool& has_fast);  // false: fatal
-    void apply_overrides(const YAML::Node& fast, bool has_fast, const LoadOptions& options);
-    void plan_types_and_params();
-    void resolve_loop_variables();
-    void resolve_inputs();
-    void resolve_loop_next_and_while();
-    // Every body node must depend on a per-iteration value, or it would never know when to run.
-    void check_body_nodes_vary();
-    // Topological order, file order among ready nodes; empty after reporting a cycle.
-    std::vector<int> dependency_order();
-    // A node fed by LOOP.each runs once per iteration; so do its consumers.
-    void mark_streamed_nodes(const std::vector<int>& order);
-    // Stable plan indices: reorder the nodes and remap every reference.
-    void emit_in_order(const std::vector<int>& order, Plan& plan);
-    void read_nodes(const YAML::Node& map, int body_of);
-    // read_nodes' steps: the keys of one node's mapping, and the checks of the entry as a whole
-    // (false: the node is not kept).
-    void read_node_keys(const YAML::Node& v, RawNode& n, YAML::Node& body, bool& has_body, bool& has_type);
-    bool check_node_entry(const RawNode& n, bool has_type, bool has_body, int body_of);
-    void apply_override(const Override& o);
-    std::optional<ParamValue> convert(const ParamDecl& d, const YAML::Node& v, const std::string& node, const SourceLoc& l);
-    // The type's declared parameter/input rules (NodeType::input_needed_when) for node i.
-    void check_input_rules(std::size_t i);
-    // A node's parameters converted by its type's declarations, defaults for the rest.
-    void read_params(const NodeType& t, const RawNode& r, std::map<std::string, ParamValue>& out);
-    // scope: the loop whose body the reader sits in (-1 outside); -2 means the consumer's own.
-    std::optional<PlanInput> resolve_source(const YAML::Node& src, int consumer, const std::string& what, int scope = -2);
-    // resolve_source's two kinds of source `text` (at l, node index s): a loop's variables, a node's output.
-    std::optional<PlanInput> resolve_loop_source(const SourceLoc& l, int consumer, const std::string& what, int scope, int s,
-                                                 const std::string& text);
-    std::optional<PlanInput> resolve_node_output(const SourceLoc& l, int consumer, const std::string& what, int scope, int s,
-                                                 const std::string& text);
-    std::vector<std::string> all_names() const {
-        std::vector<std::string> r;
-        for (const auto& n : raw_) r.push_back(n.name);
-        return r;
-    }
-    int find_raw(const std::string& name) const {
-        for (std::size_t i = 0; i < raw_.size(); ++i)
-            if (raw_[i].name == name) return static_cast<int>(i);
-        return -1;
-    }
-    bool is_loop(int i) const { return raw_[i].type == kLoopType; }
-
-    std::string file_;
-    const NodeRegistry& reg_;
-    std::vector<Diagnostic>& diags_;
-    std::vector<RawNode> raw_;
-    std::vector<PlanNode> plan_;  // same indices as raw_
-};
+SourceLoc Loader::loc_in(const YAML::Node& n, int scope) const {
+    const Scope& s = scopes_[static_cast<std::size_t>(scope < 0 ? 0 : scope)];
+    YAML::Mark m = n.Mark();
+    if (m.is_null()) return {s.file, 0, 0, s.via};
+    return {s.file, m.line + 1, m.column + 1, s.via};
+}
 
 void Loader::read_nodes(const YAML::Node& map, int body_of) {
     for (auto it = map.begin(); it != map.end(); ++it) {
@@ -119,19 +46,30 @@ void Loader::read_nodes(const YAML::Node& map, int body_of) {
         n.name = it->first.Scalar();
         n.loc = loc(it->first);
         n.body_of = body_of;
+        n.scope = scope_;
         const YAML::Node v = it->second;
         if (n.name.empty() || n.name.find('.') != std::string::npos) {
             error(n.loc, "node name '" + n.name + "' must be non-empty and contain no '.'",
                   "node names are referred to as NAME.port, so use letters, digits and '_'");
             continue;
         }
-        if (find_raw(n.name) >= 0) {
+        if (scopes_[scope_].is_sub && n.name == kInputNode) {
+            error(n.loc, "node name 'input' is reserved in a sub-pipeline (input.PORT reads its declared inputs)",
+                  "rename the node");
+            continue;
+        }
+        n.name = scopes_[scope_].prefix + n.name;
+        if (find_raw(n.name) >= 0 || find_use(n.name) >= 0) {
             error(n.loc, "node name '" + n.name + "' is used twice", "give every node, also inside loop bodies, its own name");
             continue;
         }
         if (!v.IsMap()) {
             error(loc(v).line ? loc(v) : n.loc, "node '" + n.name + "' must be a mapping with at least 'type:'",
                   "e.g. " + n.name + ": {type: shape.box}");
+            continue;
+        }
+        if (const YAML::Node t = v["type"]; t && t.IsScalar() && t.Scalar() == kUseType) {
+            expand_use(n.name, n.loc, v, body_of);
             continue;
         }
         YAML::Node body;
@@ -170,7 +108,7 @@ void Loader::read_node_keys(const YAML::Node& v, RawNode& n, YAML::Node& body, b
         } else if (key == "params") {
             if (need_map("params"))
                 for (auto p = val.begin(); p != val.end(); ++p)
-                    n.params.push_back({p->first.Scalar(), p->second, loc(p->first), loc(p->second)});
+                    n.params.push_back({p->first.Scalar(), p->second, loc(p->first), loc(p->second), scope_});
         } else if (key == "inputs") {
             if (need_map("inputs"))
                 for (auto p = val.begin(); p != val.end(); ++p) n.inputs.emplace_back(p->first.Scalar(), p->second);
@@ -211,7 +149,7 @@ void Loader::check_input_rules(std::size_t i) {
     const NodeType& t = *plan_[i].type;
     for (const InputRule& rule : t.input_rules()) {
         bool mentioned = false;
-        for (auto& [port, src] : raw_[i].inputs) mentioned = mentioned || port == rule.input;
+        for (auto& [port, src] : raw_[i].inputs) mentioned = mentioned || (port == rule.input && !unwired_optional(src, raw_[i].scope));
         const auto value = plan_[i].params.find(rule.param);
         if (mentioned || value == plan_[i].params.end()) continue;
         const std::string text = format_param_value(value->second);
@@ -322,38 +260,9 @@ std::optional<ParamValue> Loader::convert(const ParamDecl& d, const YAML::Node& 
     return value;
 }
 
-void Loader::apply_override(const Override& o) {
-    int i = find_raw(o.node);
-    if (i < 0) {
-        error(o.loc, "override '" + o.node + "." + o.param + "' names no node", did_you_mean(o.node, all_names()));
-        return;
-    }
-    if (const auto dot = o.param.find('.'); dot != std::string::npos && find_raw(o.param.substr(0, dot)) >= 0) {
-        // LOOP.NODE.PARAM: names are global, so a body node is addressed on its own.
-        error(o.loc, "override '" + o.node + "." + o.param + "' names node '" + o.param.substr(0, dot) + "' through '" +
-                         o.node + "'",
-              "write " + o.param + ": every node, also inside a loop body, is addressed by its own name");
-        return;
-    }
-    YAML::Node value;
-    try {
-        value = YAML::Load(o.value);
-    } catch (const YAML::Exception& e) {
-        error(o.loc, "override '" + o.node + "." + o.param + "': value '" + o.value + "' is not valid YAML: " + e.msg);
-        return;
-    }
-    for (auto& p : raw_[i].params)
-        if (p.name == o.param) {
-            p.value = value;
-            p.key_loc = p.value_loc = o.loc;
-            return;
-        }
-    raw_[i].params.push_back({o.param, value, o.loc, o.loc});
-}
-
 // Resolves "node.port" (or "loop.each.var", "loop.final.var", "loop.var", "loop.iteration").
 std::optional<PlanInput> Loader::resolve_source(const YAML::Node& src, int consumer, const std::string& what, int scope) {
-    const SourceLoc l = loc(src);
+    const SourceLoc l = loc_in(src, raw_[consumer].scope);
     const RawNode& c = raw_[consumer];
     if (scope == -2) scope = c.body_of;
     if (!src.IsScalar() || src.Scalar().find('.') == std::string::npos) {
@@ -361,7 +270,10 @@ std::optional<PlanInput> Loader::resolve_source(const YAML::Node& src, int consu
               "e.g. " + std::string("mesh: box.mesh"));
         return std::nullopt;
     }
-    const std::string text = src.Scalar();
+    // In a sub-pipeline's names: input.PORT, a use node's outputs and the file's own nodes.
+    const std::optional<std::string> global = globalize(src.Scalar(), c.scope, l);
+    if (!global) return std::nullopt;
+    const std::string text = *global;
     const std::string node = text.substr(0, text.find('.'));
     int s = find_raw(node);
     if (s < 0) {
@@ -372,8 +284,22 @@ std::optional<PlanInput> Loader::resolve_source(const YAML::Node& src, int consu
         error(l, what + " of node '" + c.name + "' refers to the node itself", "a node cannot consume its own output; use a loop");
         return std::nullopt;
     }
-    if (is_loop(s)) return resolve_loop_source(l, consumer, what, scope, s, text);
-    return resolve_node_output(l, consumer, what, scope, s, text);
+    std::optional<PlanInput> in = is_loop(s) ? resolve_loop_source(l, consumer, what, scope, s, text)
+                                             : resolve_node_output(l, consumer, what, scope, s, text);
+    // input.PORT of a sub-pipeline: what the using node connects must be of the declared type
+    // (reported once, where the using file connects it).
+    const Scope& sc = scopes_[c.scope];
+    const std::string written = src.Scalar();
+    if (in && sc.is_sub && written.rfind(std::string(kInputNode) + ".", 0) == 0) {
+        const std::string port = written.substr(std::string(kInputNode).size() + 1);
+        const auto declared = sc.input_types.find(port);
+        if (declared != sc.input_types.end() && declared->second != in->type.name &&
+            input_type_reported_.insert({c.scope, port}).second)
+            error(loc_in(sc.wired.at(port), sc.parent),
+                  "input '" + port + "' of sub-pipeline " + sc.file + " (node '" + sc.prefix.substr(0, sc.prefix.size() - 1) +
+                      "') is " + declared->second + ", but '" + sc.wired.at(port).Scalar() + "' is " + in->type.name);
+    }
+    return in;
 }
 
 std::optional<PlanInput> Loader::resolve_loop_source(const SourceLoc& l, int consumer, const std::string& what, int scope,
@@ -455,45 +381,37 @@ std::optional<PlanInput> Loader::resolve_node_output(const SourceLoc& l, int con
     return in;
 }
 
-bool Loader::read_top_level(const YAML::Node& root, YAML::Node& nodes, YAML::Node& fast, bool& has_fast) {
+bool Loader::read_top_level(const YAML::Node& root, YAML::Node& nodes, YAML::Node& fast, bool& has_fast, int scope) {
+    const int saved = scope_;
+    scope_ = scope;
+    struct Restore {
+        int& s;
+        int v;
+        ~Restore() { s = v; }
+    } restore{scope_, saved};
     if (!root.IsMap()) {
         error(loc(root), "a pipeline file must be a mapping with a top-level 'nodes:' key");
         return false;
     }
-    bool has_nodes = false;
+    bool has_nodes = false, interface = false;
     for (auto it = root.begin(); it != root.end(); ++it) {
         const std::string key = it->first.Scalar();
         if (key == "nodes") nodes = it->second, has_nodes = true;
         else if (key == "fast") fast = it->second, has_fast = true;
-        else if (key != "description")
-            error(loc(it->first), "unknown top-level key '" + key + "'", did_you_mean(key, {"nodes", "fast", "description"}));
+        else if (key == "parameters" || key == "inputs" || key == "outputs") {
+            if (scope == 0 && !interface)
+                error(loc(it->first), "'" + key + "' declares a sub-pipeline's interface; this file is run on its own",
+                      "validate or run a pipeline that uses this file (a node with type: use, use: FILE)");
+            interface = true;
+        } else if (key != "description")
+            error(loc(it->first), "unknown top-level key '" + key + "'",
+                  did_you_mean(key, {"nodes", "fast", "description", "parameters", "inputs", "outputs"}));
     }
     if (!has_nodes || !nodes.IsMap()) {
         error(loc(root), "missing top-level 'nodes:' mapping", "nodes:\n    box: {type: shape.box}");
         return false;
     }
-    return true;
-}
-
-void Loader::apply_overrides(const YAML::Node& fast, bool has_fast, const LoadOptions& options) {
-    std::vector<Override> overrides;
-    if (options.fast && has_fast) {
-        if (!fast.IsMap()) error(loc(fast), "'fast:' must be a mapping of NODE.PARAM: value");
-        else
-            for (auto it = fast.begin(); it != fast.end(); ++it) {
-                const std::string key = it->first.Scalar();
-                auto dot = key.find('.');
-                if (dot == std::string::npos) {
-                    error(loc(it->first), "fast override '" + key + "' must be NODE.PARAM");
-                    continue;
-                }
-                YAML::Emitter e;
-                e << YAML::Flow << it->second;
-                overrides.push_back({key.substr(0, dot), key.substr(dot + 1), e.c_str(), loc(it->first)});
-            }
-    }
-    overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
-    for (const auto& o : overrides) apply_override(o);
+    return !(scope == 0 && interface);  // its input.PORT references would only repeat the point
 }
 
 void Loader::plan_types_and_params() {
@@ -526,6 +444,7 @@ void Loader::plan_types_and_params() {
 void Loader::resolve_loop_variables() {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         if (!is_loop(static_cast<int>(i))) continue;
+        scope_ = raw_[i].scope;
         for (auto& [var, src] : raw_[i].inputs) {
             if (var == "iteration" || var == "each" || var == "final") {
                 error(loc(src), "loop variable name '" + var + "' is reserved", "choose another name, e.g. state");
@@ -546,9 +465,14 @@ void Loader::resolve_loop_variables() {
 void Loader::resolve_inputs() {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         if (is_loop(static_cast<int>(i)) || !plan_[i].type) continue;
+        scope_ = raw_[i].scope;
         const NodeType& t = *plan_[i].type;
-        std::set<std::string> connected;
+        std::set<std::string> connected, left_out;
         for (auto& [port, src] : raw_[i].inputs) {
+            if (unwired_optional(src, raw_[i].scope)) {
+                left_out.insert(port);
+                continue;
+            }
             const PortDecl* pd = t.find_input(port);
             if (!pd) {
                 std::vector<std::string> names;
@@ -571,7 +495,7 @@ void Loader::resolve_inputs() {
         for (const auto& d : t.inputs())
             if (!d.optional && !connected.count(d.name)) {
                 bool mentioned = false;
-                for (auto& [port, src] : raw_[i].inputs) mentioned = mentioned || port == d.name;
+                for (auto& [port, src] : raw_[i].inputs) mentioned = mentioned || (port == d.name && !left_out.count(port));
                 if (!mentioned)
                     error(raw_[i].loc, "required input '" + d.name + "' (" + d.type.name + ") of node '" + raw_[i].name + "' is not connected",
                           "add inputs: {" + d.name + ": NODE.PORT}; " + d.doc);
@@ -583,6 +507,7 @@ void Loader::resolve_inputs() {
 void Loader::resolve_loop_next_and_while() {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         if (!is_loop(static_cast<int>(i))) continue;
+        scope_ = raw_[i].scope;
         PlanNode& lp = plan_[i];
         std::set<std::string> given;
         for (auto& [var, src] : raw_[i].next) {
@@ -730,14 +655,17 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
     plan.file = file_;
     YAML::Node nodes, fast;
     bool has_fast = false;
-    if (!read_top_level(root, nodes, fast, has_fast)) return plan;
-    read_nodes(nodes, -1);
-    apply_overrides(fast, has_fast, options);  // fast: (with --fast) and --set
+    fast_ = options.fast;
+    if (!read_top_level(root, nodes, fast, has_fast, 0)) return plan;
+    read_nodes(nodes, -1);  // sub-pipelines (use nodes) are read in place, with their parameters
+    apply_overrides(fast, has_fast, options);  // fast: (with --fast, the used files' first) and --set
     plan_types_and_params();
+    resolve_input_paths();
     resolve_loop_variables();  // first: their types come from the initial values
     resolve_inputs();
     resolve_loop_next_and_while();
     check_body_nodes_vary();
+    for (const auto& u : uses_) plan.uses.push_back({u.name, scopes_[u.scope].file, u.loc});
     if (!diags_.empty()) return plan;
     const std::vector<int> order = dependency_order();  // loop back-edges 'next'/'while' are not edges
     if (!diags_.empty()) return plan;                   // a cycle
@@ -749,7 +677,7 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
     return plan;
 }
 
-}  // namespace
+}  // namespace detail
 
 std::optional<Override> parse_override(const std::string& text, std::vector<Diagnostic>& diags) {
     auto eq = text.find('=');
@@ -761,74 +689,123 @@ std::optional<Override> parse_override(const std::string& text, std::vector<Diag
     return Override{text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), text.substr(eq + 1), {"--set", 0, 0}};
 }
 
-Plan load_pipeline_text(const std::string& text, const std::string& file_name, const NodeRegistry& registry,
-                        const LoadOptions& options, std::vector<Diagnostic>& diags) {
-    YAML::Node root;
+namespace detail {
+
+bool parse_pipeline_yaml(const std::string& text, const std::string& file_name, const std::string& via, YAML::Node& root,
+                         std::vector<Diagnostic>& diags) {
     try {
         // A file with several YAML documents ('---') is one pipeline only if it has one document;
         // silently running the first would hide the rest.
         const std::vector<YAML::Node> docs = YAML::LoadAll(text);
         if (docs.size() > 1) {
             const YAML::Mark m = docs[1].Mark();
-            diags.push_back({{file_name, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0},
+            diags.push_back({{file_name, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0, via},
                              "the file holds " + std::to_string(docs.size()) + " YAML documents; a pipeline file holds one",
                              "remove the '---' separators, or split the documents into one file each"});
-            return {};
+            return false;
         }
         root = docs.empty() ? YAML::Node() : docs.front();
     } catch (const YAML::ParserException& e) {
-        diags.push_back({{file_name, e.mark.line + 1, e.mark.column + 1}, "YAML syntax error: " + e.msg,
+        diags.push_back({{file_name, e.mark.line + 1, e.mark.column + 1, via}, "YAML syntax error: " + e.msg,
                          "check indentation and that every 'key: value' has a space after the colon"});
-        return {};
+        return false;
     }
+    return true;
+}
+
+bool read_pipeline_text(const std::string& path, std::string& text, std::vector<Diagnostic>& diags, const SourceLoc& at) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
+        std::error_code ec;
+        const std::string abs = std::filesystem::absolute(path, ec).lexically_normal().string();
+        diags.push_back({at, "cannot open pipeline file '" + path + "' (" + abs + ")",
+                         "check the path; pipelines/ has the shipped ones"});
+        return false;
+    }
+    // Read at most the limit and one byte more: a pipeline is a few kilobytes, and /dev/zero or a
+    // mesh given by mistake must not be read into memory whole (validate /dev/zero read 4.2 GB).
+    constexpr std::size_t limit = std::size_t(16) << 20;
+    text.assign(limit + 1, '\0');
+    f.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(f.gcount()));
+    if (text.size() > limit) {
+        diags.push_back({at, "pipeline file '" + path + "' is larger than 16 MiB (a pipeline is a few kilobytes); not read",
+                         "check that this is the pipeline YAML file and not a mesh, a device or a generated file"});
+        return false;
+    }
+    return true;
+}
+
+}  // namespace detail
+
+Plan load_pipeline_text(const std::string& text, const std::string& file_name, const NodeRegistry& registry,
+                        const LoadOptions& options, std::vector<Diagnostic>& diags) {
+    YAML::Node root;
+    if (!detail::parse_pipeline_yaml(text, file_name, "", root, diags)) return {};
     const std::size_t first = diags.size();
-    Loader loader(file_name, registry, diags);
+    detail::Loader loader(file_name, registry, diags);
     Plan plan = loader.load(root, options);
     plan.registry = &registry;
+    // The file's own problems by line, then those inside each used file (after the using line's).
     std::stable_sort(diags.begin() + first, diags.end(), [](const Diagnostic& a, const Diagnostic& b) {
-        return std::tie(a.loc.line, a.loc.column) < std::tie(b.loc.line, b.loc.column);
+        return std::tie(a.loc.via, a.loc.line, a.loc.column) < std::tie(b.loc.via, b.loc.line, b.loc.column);
     });
     return plan;
 }
 
 Plan load_pipeline_file(const std::string& path, const NodeRegistry& registry, const LoadOptions& options,
                         std::vector<Diagnostic>& diags) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) {
-        diags.push_back({{path, 0, 0}, "cannot open pipeline file", "check the path; pipelines/ has the shipped ones"});
-        return {};
-    }
-    // Read at most the limit and one byte more: a pipeline is a few kilobytes, and /dev/zero or a
-    // mesh given by mistake must not be read into memory whole (validate /dev/zero read 4.2 GB).
-    constexpr std::size_t limit = std::size_t(16) << 20;
-    std::string text(limit + 1, '\0');
-    f.read(text.data(), static_cast<std::streamsize>(text.size()));
-    text.resize(static_cast<std::size_t>(f.gcount()));
-    if (text.size() > limit) {
-        diags.push_back({{path, 0, 0}, "pipeline file is larger than 16 MiB (a pipeline is a few kilobytes); not read",
-                         "check that this is the pipeline YAML file and not a mesh, a device or a generated file"});
-        return {};
-    }
+    std::string text;
+    if (!detail::read_pipeline_text(path, text, diags, {path, 0, 0})) return {};
     return load_pipeline_text(text, path, registry, options, diags);
 }
+
+namespace {
+
+// The use node directly holding `name` among `uses` below `prefix` ("" at the top), or -1.
+int owning_use(const Plan& plan, const std::string& name, const std::string& prefix) {
+    int best = -1;
+    for (std::size_t u = 0; u < plan.uses.size(); ++u) {
+        const std::string up = plan.uses[u].name + "/";
+        if (name.rfind(up, 0) != 0 || up.size() <= prefix.size() || up.rfind(prefix, 0) != 0) continue;
+        if (best < 0 || up.size() < plan.uses[static_cast<std::size_t>(best)].name.size() + 1) best = static_cast<int>(u);
+    }
+    return best;
+}
+
+// The nodes outside loop bodies whose innermost scope is `prefix`; each use below it as a cluster.
+void dot_scope(std::ostringstream& o, const Plan& plan, const std::string& prefix, const std::string& indent) {
+    auto id = [](const std::string& s) { return "\"" + s + "\""; };
+    for (std::size_t u = 0; u < plan.uses.size(); ++u) {
+        const PlanUse& use = plan.uses[u];
+        if (use.name.rfind(prefix, 0) != 0 || owning_use(plan, use.name + "/", prefix) != static_cast<int>(u)) continue;
+        o << indent << "subgraph " << id("cluster_use_" + use.name) << " {\n" << indent << "  label=" << id("use " + use.name + " (" + use.file + ")")
+          << ";\n" << indent << "  style=dashed;\n";
+        dot_scope(o, plan, use.name + "/", indent + "  ");
+        o << indent << "}\n";
+    }
+    for (std::size_t i = 0; i < plan.nodes.size(); ++i) {
+        const PlanNode& p = plan.nodes[i];
+        if (p.body_of >= 0 || p.name.rfind(prefix, 0) != 0 || owning_use(plan, p.name, prefix) >= 0) continue;
+        if (p.is_loop()) {
+            o << indent << "subgraph " << id("cluster_" + p.name) << " {\n" << indent << "  label=" << id("loop " + p.name + " (max " + std::to_string(p.max_iterations) + ")") << ";\n" << indent << "  style=rounded;\n";
+            o << indent << "  " << id(p.name) << " [shape=diamond, label=" << id(p.name) << "];\n";
+            for (const auto& q : plan.nodes)
+                if (q.body_of == static_cast<int>(i)) o << indent << "  " << id(q.name) << " [label=" << id(q.name + "\\n" + q.type->name()) << "];\n";
+            o << indent << "}\n";
+        } else {
+            o << indent << id(p.name) << " [label=" << id(p.name + "\\n" + p.type->name()) << (p.streamed_by >= 0 ? ", style=dashed" : "") << "];\n";
+        }
+    }
+}
+
+}  // namespace
 
 std::string to_dot(const Plan& plan) {
     std::ostringstream o;
     auto id = [](const std::string& s) { return "\"" + s + "\""; };
     o << "digraph pipeline {\n  rankdir=LR;\n  node [shape=box, fontname=\"Helvetica\"];\n";
-    for (std::size_t i = 0; i < plan.nodes.size(); ++i) {
-        const PlanNode& p = plan.nodes[i];
-        if (p.body_of >= 0) continue;
-        if (p.is_loop()) {
-            o << "  subgraph " << id("cluster_" + p.name) << " {\n    label=" << id("loop " + p.name + " (max " + std::to_string(p.max_iterations) + ")") << ";\n    style=rounded;\n";
-            o << "    " << id(p.name) << " [shape=diamond, label=" << id(p.name) << "];\n";
-            for (const auto& q : plan.nodes)
-                if (q.body_of == static_cast<int>(i)) o << "    " << id(q.name) << " [label=" << id(q.name + "\\n" + q.type->name()) << "];\n";
-            o << "  }\n";
-        } else {
-            o << "  " << id(p.name) << " [label=" << id(p.name + "\\n" + p.type->name()) << (p.streamed_by >= 0 ? ", style=dashed" : "") << "];\n";
-        }
-    }
+    dot_scope(o, plan, "", "  ");
     for (const auto& p : plan.nodes) {
         for (const auto& in : p.inputs) {
             std::string label = in.source_port + " -> " + in.port;

@@ -12,6 +12,9 @@
 //       next: {VAR: bodynode.port}         # the value of VAR for the next iteration
 //       while: bodynode.port               # optional Bool: iterate while true
 //   fast: {node.param: value}              # optional overrides for quick test runs
+// A node `{type: use, use: FILE, params: {...}, inputs: {...}}` reads another pipeline file (a
+// sub-pipeline with declared `parameters:`, `inputs:` and `outputs:`) in its place: its nodes are
+// named NAME/INNER; NAME.OUTPUT reads a declared output (graph/subpipeline.cpp, docs/pipelines.md).
 // Inside the body, LOOP.VAR is the current value and LOOP.iteration the index (Int, from 0).
 // Outside, LOOP.each.VAR streams the value after every iteration and LOOP.final.VAR is the
 // value after the last one.
@@ -62,16 +65,29 @@ struct PlanNode {
     bool per_iteration() const { return body_of >= 0 || streamed_by >= 0; }
 };
 
+// A sub-pipeline as used (its nodes are in Plan::nodes as NAME/INNER).
+struct PlanUse {
+    std::string name;  // the use node ("outer/inner" when nested)
+    std::string file;  // the used file, as resolved
+    SourceLoc loc;     // where the use node is written
+};
+
 struct Plan {
     std::string file;
+    std::vector<PlanUse> uses;
     const NodeRegistry* registry = nullptr;  // the registry it was loaded with (sub-pipelines use it too)
     std::vector<PlanNode> nodes;  // in a topological order of the non-loop-back edges
     int find(const std::string& name) const;
 };
 
 struct Override {
-    std::string node, param, value;  // value is YAML text
+    std::string node, param, value;
     SourceLoc loc;
+    // false (--set, batch manifests): the value of a text parameter (String, Choice) is taken as
+    // it is, no quoting needed ('z_max: traction 0 0 1'); a value in quotes is read as YAML, so
+    // '"a b"' is a b. Other parameters are read as YAML (1e9, [0, 0, 1], true).
+    // true (fast: entries): the value is YAML text for every parameter.
+    bool yaml = false;
 };
 
 // Parses "node.param=value" (from --set). Appends a diagnostic when malformed.
@@ -89,7 +105,12 @@ Plan load_pipeline_file(const std::string& path, const NodeRegistry& registry, c
 Plan load_pipeline_text(const std::string& text, const std::string& file_name, const NodeRegistry& registry,
                         const LoadOptions& options, std::vector<Diagnostic>& diags);
 
-// Graphviz dot of a plan (loops as clusters).
+// Graphviz dot of a plan (loops and sub-pipelines as clusters).
 std::string to_dot(const Plan& plan);
+
+// The plan as a pipeline file (graph/pipeline_print.cpp): sub-pipelines expanded (nodes named
+// NAME/INNER), every override applied, input paths resolved, only the parameters a file or an
+// override gave (the rest take their defaults). Loads again to the same plan.
+std::string to_yaml(const Plan& plan);
 
 }  // namespace cf::graph

@@ -1,13 +1,17 @@
 #include "graph/registry.hpp"
 
 #include "graph/loop_type.hpp"
+#include "graph/use_type.hpp"
 
 #include <regex>
 #include <stdexcept>
 
 namespace cf::graph {
 
-NodeRegistry::NodeRegistry() { add(loop_node_type()); }
+NodeRegistry::NodeRegistry() {
+    add(loop_node_type());
+    add(use_node_type());
+}
 
 void NodeRegistry::add(NodeType type) {
     static const std::regex dotted("[a-z][a-z0-9_]*(\\.[a-z][a-z0-9_]*)+");

@@ -28,6 +28,7 @@ void validate_manifest(const Manifest& manifest, const graph::NodeRegistry& regi
                                     std::to_string(row.pipeline_line) + (fast ? ", as run --fast applies it" : "") + ")",
                                 d.hint});
         for (const auto& n : plan.nodes) node_names[row.pipeline].insert(n.name);
+        for (const auto& u : plan.uses) node_names[row.pipeline].insert(u.name);  // `fracture.method` sets a sub-pipeline's parameter
     }
 
     // A column whose node is in none of the manifest's pipelines is an unknown column, whichever

@@ -27,6 +27,9 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--set", run.overrides, "override a parameter: NODE.PARAM=VALUE (repeatable)");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores; at most 4 per core)")->check(CLI::Range(1, INT_MAX));
     run_cmd->add_flag("--fast", run.fast, "apply the pipeline's 'fast:' overrides (reduced resolution, for tests)");
+    run_cmd->add_flag("--print-pipeline", run.print_pipeline,
+                      "print the pipeline as it would run (sub-pipelines expanded, --fast and --set applied, input "
+                      "paths resolved) as YAML on stdout, and stop");
     run_cmd->add_flag("--allow-absolute-paths", run.allow_absolute_paths,
                       "let output parameters name absolute paths outside --out (refused by default)");
 

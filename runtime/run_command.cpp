@@ -77,6 +77,10 @@ int graph_command(const std::string& pipeline) {
 int run_command(const RunRequest& req) {
     graph::Plan plan;
     if (!load(req.pipeline, req.overrides, req.fast, plan, req.allow_absolute_paths)) return 2;
+    if (req.print_pipeline) {
+        std::fputs(graph::to_yaml(plan).c_str(), stdout);
+        return 0;
+    }
     std::filesystem::path out = req.out_dir.empty()
                                     ? std::filesystem::path("out") / std::filesystem::path(req.pipeline).stem()
                                     : std::filesystem::path(req.out_dir);

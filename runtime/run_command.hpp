@@ -12,6 +12,7 @@ struct RunRequest {
     int threads = 0;                   // 0: all cores
     bool fast = false;
     bool allow_absolute_paths = false;  // output parameters may name files outside --out
+    bool print_pipeline = false;        // print the pipeline as it would run (graph::to_yaml) and stop
 };
 
 // Exit codes: 0 ok, 1 a node failed, 2 invalid pipeline or arguments, 130 cancelled (Ctrl-C).

@@ -89,7 +89,7 @@ graph::NodeType granular_node() {
 
 graph::NodeType vdb_node() {
     graph::NodeType t("fields.vdb", "A field read from a float grid of a .vdb file, trilinearly interpolated, times 'scale'.");
-    t.param_string("file", "", "path of the .vdb file").required();
+    t.param_string("file", "", "path of the .vdb file; a relative path is looked up beside the pipeline file, then on CRACKFLOW_DATA_PATH").required().reads_file();
     t.param_string("grid", "toughness", "name of the float grid in the file");
     t.param_real("scale", 1, "", "factor applied to the grid values (e.g. to convert units)");
     common_params(t);

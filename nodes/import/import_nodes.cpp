@@ -15,7 +15,7 @@ void register_import_nodes(graph::NodeRegistry& r) {
                       "group (the first present) as '<property><value>', e.g. region3; faces without one (and OFF, STL) "
                       "get region 'default'. The report lists each region's triangles and area [m^2].");
     t.output<SurfaceMesh>("mesh", "the checked surface, outward oriented, in metres");
-    t.param_string("path", "", "mesh file (.obj, .off, .ply, .stl), relative to the working directory").required();
+    t.param_string("path", "", "mesh file (.obj, .off, .ply, .stl); a relative path is looked up beside the pipeline file, then on CRACKFLOW_DATA_PATH and the build's data directory (docs/pipelines.md)").required().reads_file();
     t.param_bool("reorient", false,
                  "re-orient inconsistent or inside-out faces instead of failing (consistent per shell, outward)");
     t.param_real("scale", 1.0, "m", "length of one file unit in metres (0.001 for a file in millimetres)").above(0);

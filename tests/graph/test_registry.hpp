@@ -5,6 +5,8 @@
 #include "graph/pipeline.hpp"
 #include "nodes/registration.hpp"
 
+#include <fstream>
+
 struct TestBlob {
     int n = 0;
 };
@@ -36,6 +38,18 @@ inline const cf::graph::NodeRegistry& test_registry() {
             t.input_needed_when("value", "mode", {"plain", "scaled"}, "the value to write");
             t.input_needed_when("value", "write", {"true"}, "the value to write");
             t.run([](cf::graph::NodeContext&) {});
+            r.add(std::move(t));
+        }
+        {
+            cf::graph::NodeType t("test.read", "Reads a number from a text file (an input path the loader resolves).");
+            t.output<double>("value", "the first number in the file");
+            t.param_string("path", "", "file to read").required().reads_file();
+            t.run([](cf::graph::NodeContext& c) {
+                std::ifstream in(c.string("path"));
+                double v = 0;
+                if (!(in >> v)) c.fail("cannot read a number from " + c.string("path"));
+                c.out("value", v);
+            });
             r.add(std::move(t));
         }
         return r;

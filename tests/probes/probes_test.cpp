@@ -193,27 +193,35 @@ TEST(Probes, ASliceThroughACrackPlaneLeavesOutThePointsOnTheCrack) {
 // its own files ({iteration}) with the inside points less those on the crack, principal stresses
 // in order, and the point above the crack in vertical tension (the cube is pulled apart along z).
 TEST(Probes, WriteEveryStepOfAFractureLoop) {
-    std::ifstream in(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/edge_crack_mode1.yaml");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::string text = ss.str();
+    // The loop is pipelines/lib/fracture.yaml: a copy of it with the probes, beside a copy of the case.
+    auto read = [](const std::string& rel) {
+        std::ifstream in(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/" + rel);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    };
+    std::string text = read("lib/fracture.yaml");
     const std::string anchor = "        params: {path: \"sifs_{iteration}.csv\"}\n";
     const std::size_t at = text.find(anchor);
     ASSERT_NE(at, std::string::npos);
     text.insert(at + anchor.size(),
                 "      stress_slice:\n"
                 "        type: export.probes\n"
-                "        inputs: {solution: fracture.solution}\n"
+                "        inputs: {solution: steps.solution}\n"
                 "        params: {slice_origin: [-0.05, 0, -0.05], slice_u: [0.1, 0, 0], slice_v: [0, 0, 0.1],\n"
                 "                 slice_u_points: 9, slice_v_points: 9, path: \"slice_{iteration}.csv\"}\n"
                 "      stress_point:\n"
                 "        type: export.probes\n"
-                "        inputs: {solution: fracture.solution}\n"
+                "        inputs: {solution: steps.solution}\n"
                 "        params: {points: [0.02, 0.01, 0.03], path: \"point_{iteration}.csv\"}\n");
+    const std::filesystem::path files = cf::testing::temp_dir("probes-loop-pipeline");
+    std::filesystem::create_directories(files / "lib");
+    std::ofstream(files / "lib" / "fracture.yaml") << text;
+    std::ofstream(files / "edge_crack_probes.yaml") << read("edge_crack_mode1.yaml");
     std::vector<graph::Diagnostic> diags;
     graph::LoadOptions options;
     options.fast = true;
-    const graph::Plan plan = graph::load_pipeline_text(text, "edge_crack_probes.yaml", node_registry(), options, diags);
+    const graph::Plan plan = graph::load_pipeline_file((files / "edge_crack_probes.yaml").string(), node_registry(), options, diags);
     ASSERT_TRUE(diags.empty()) << graph::format(diags.front());
     graph::RunOptions run;
     run.fast = true;

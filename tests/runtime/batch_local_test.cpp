@@ -286,16 +286,17 @@ namespace {
 
 // The dataset example (pipelines/batch/dataset.csv): the whole manifest validates as --fast runs it,
 // and one row of each of its three pipelines runs to fragments through an emitted-command line
-// (--row). The meshes are read from this test's folder, where CMake extracted bunny00.off.
+// (--row), from a working directory without the meshes: they are found in the build's data
+// directory, where CMake extracted libcgal-demo's meshes (graph/input_paths.hpp).
 TEST(BatchDataset, ManifestValidatesAndOneRowPerPipelineBreaks) {
     const std::string manifest = src("pipelines/batch/dataset.csv");
     Outcome check = run_batch(manifest + " --check --fast");
     ASSERT_EQ(check.code, 0) << check.output;
     EXPECT_NE(check.output.find("ok (51 rows)"), std::string::npos) << check.output;
-    const fs::path work = fs::path(CRACKFLOW_BINARY_DIR) / "tests/runtime";
-    // setup.sh installs libcgal-demo and CMake extracts its meshes here: missing data is a failure.
-    ASSERT_TRUE(fs::exists(work / "data/meshes/bunny00.off"))
-        << "data/meshes/bunny00.off not extracted: install libcgal-demo and re-run cmake";
+    const fs::path work = cf::testing::temp_dir("batch-dataset-work");
+    // setup.sh installs libcgal-demo and CMake extracts its meshes there: missing data is a failure.
+    ASSERT_TRUE(fs::exists(fs::path(CRACKFLOW_BINARY_DIR) / "data/meshes/bunny00.off"))
+        << "data/meshes/bunny00.off not extracted into the build folder: install libcgal-demo and re-run cmake";
     const fs::path out = cf::testing::temp_dir("batch-dataset");
     for (const std::string id : {"torus_u4e-3_s1", "cylinder_u4e-3_s1", "bunny00_u4e-3_s1"}) {
         Outcome o = run_batch(manifest + " --out " + out.string() + " --row " + id + " --workdir " + work.string() +

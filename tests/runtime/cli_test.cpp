@@ -109,13 +109,13 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
     for (const auto& n : report["nodes"]) {
         const std::string name = n["name"].as<std::string>(), type = n["type"].as<std::string>();
         if (type != "loop") by_type[type] += n["wall_seconds"].as<double>();
-        if (name == "assemble0")
+        if (name == "fracture/assemble0")
             elements_start = n["counts"]["triangles"].as<double>() + n["counts"]["crack_triangles"].as<double>();
-        if (name == "assemble") {
+        if (name == "fracture/assemble") {
             const YAML::Node last = n["iteration_counts"][n["iteration_counts"].size() - 1];
             elements_end = last["triangles"].as<double>() + last["crack_triangles"].as<double>();
         }
-        if (name == "propagate") {
+        if (name == "fracture/propagate") {
             propagate_runs = n["runs"].as<int>();
             for (const auto& it : n["iteration_counts"]) {
                 left += it["hits_left_object"].as<double>();
@@ -123,12 +123,12 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
                 self += it["hits_self_intersection"].as<double>();
             }
         }
-        if (name == "fracture") loop_runs = n["runs"].as<int>();
-        if (name == "fragments") fragments = n["counts"]["fragments"].as<double>();
+        if (name == "fracture/steps") loop_runs = n["runs"].as<int>();
+        if (name == "fracture/fragments") fragments = n["counts"]["fragments"].as<double>();
     }
     const YAML::Node f = summary["fracture"];
     EXPECT_EQ(f["bem_steps"].as<int>(), propagate_runs);
-    EXPECT_EQ(summary["loop_iterations"]["fracture"].as<int>(), loop_runs);
+    EXPECT_EQ(summary["loop_iterations"]["fracture/steps"].as<int>(), loop_runs);
     EXPECT_EQ(f["elements_start"].as<double>(), elements_start);
     EXPECT_EQ(f["elements_end"].as<double>(), elements_end);
     EXPECT_GT(elements_end, elements_start) << "the crack must have grown";
@@ -245,7 +245,7 @@ TEST(Cli, FailingLoopWriterEndsCleanlyWithTwoThreads) {
     for (int attempt = 0; attempt < 5; ++attempt) {
         auto dir = cf::testing::temp_dir("cli-failing-writer-" + std::to_string(attempt));
         Outcome o = run_cli("run " + src("pipelines/edge_crack_mode1.yaml") +
-                            " --fast --threads 2 --allow-absolute-paths --set 'step_vtk.path=/proc/nonexistent/s_{iteration}.vtp' --out " + dir.string());
+                            " --fast --threads 2 --allow-absolute-paths --set 'fracture/step_vtk.path=/proc/nonexistent/s_{iteration}.vtp' --out " + dir.string());
         ASSERT_EQ(o.code, 1) << "attempt " << attempt << ":\n" << o.output;
         EXPECT_NE(o.output.find("step_vtk"), std::string::npos) << o.output;
         ASSERT_TRUE(std::filesystem::exists(dir / "report.json")) << o.output;

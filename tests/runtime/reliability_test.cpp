@@ -246,8 +246,8 @@ TEST(Reliability, CtrlCStopsLongNodesWithinHalfASecond) {
         std::vector<std::string> sets;
     };
     const std::vector<Case> cases = {
-        {"propagate with a million sub-steps", "start  propagate#0", {"propagate.substeps=1000000"}},
-        {"assembly of 1200 triangles", "start  assemble0", {"cube.subdivisions=10"}},
+        {"propagate with a million sub-steps", "start  fracture/propagate#0", {"fracture/propagate.substeps=1000000"}},
+        {"assembly of 1200 triangles", "start  fracture/assemble0", {"cube.subdivisions=10"}},
         {"level set of a fine grid", "start  object", {"object.voxel_size=1.5e-4"}},
     };
     for (const Case& c : cases) {
@@ -287,12 +287,12 @@ TEST(Reliability, CtrlCStopsInteriorEvaluationWithinHalfASecond) {
 TEST(Reliability, MemoryIsEstimatedBeforeItIsAllocated) {
     const auto dir = cf::testing::temp_dir("reliability-memory");
     const std::string mode1 = src("pipelines/edge_crack_mode1.yaml");
-    const Child loop = run_limited({"run", mode1, "--fast", "--set", "assemble.memory_budget=0.001", "--out", (dir / "a").string()});
+    const Child loop = run_limited({"run", mode1, "--fast", "--set", "fracture/assemble.memory_budget=0.001", "--out", (dir / "a").string()});
     EXPECT_EQ(loop.code(), 1) << loop.output;
-    EXPECT_NE(loop.output.find("node 'assemble'"), std::string::npos) << loop.output;
+    EXPECT_NE(loop.output.find("node 'fracture/assemble'"), std::string::npos) << loop.output;
     EXPECT_NE(loop.output.find("above the memory budget of 0.001 GB"), std::string::npos) << loop.output;
 
-    const Child huge = run_limited({"run", mode1, "--fast", "--set", "assemble0.memory_budget=1e6", "--out", (dir / "b").string()});
+    const Child huge = run_limited({"run", mode1, "--fast", "--set", "fracture.memory_budget=1e6", "--out", (dir / "b").string()});
     EXPECT_EQ(huge.code(), 1) << huge.output;
     EXPECT_NE(huge.output.find("'memory_budget' is 1e+06 GB, more than the"), std::string::npos) << huge.output;
 
@@ -441,21 +441,21 @@ TEST(Reliability, SolveAndImportMemoryIsEstimatedFirst) {
     const auto dir = cf::testing::temp_dir("reliability-memory-solve");
     const std::string mode1 = src("pipelines/edge_crack_mode1.yaml");
     // The first solve factorises the surface (about 2 MB for 300 triangles): refused at 10 kB.
-    const Child factor = run_limited({"run", mode1, "--fast", "--set", "solve0.memory_budget=1e-5", "--out", (dir / "a").string()});
+    const Child factor = run_limited({"run", mode1, "--fast", "--set", "fracture/solve0.memory_budget=1e-5", "--out", (dir / "a").string()});
     EXPECT_EQ(factor.code(), 1) << factor.output;
-    EXPECT_NE(factor.output.find("node 'solve0'"), std::string::npos) << factor.output;
+    EXPECT_NE(factor.output.find("node 'fracture/solve0'"), std::string::npos) << factor.output;
     EXPECT_NE(factor.output.find("factorising the surface system"), std::string::npos) << factor.output;
     EXPECT_NE(factor.output.find("above the memory budget of 1e-05 GB"), std::string::npos) << factor.output;
     EXPECT_NE(factor.output.find("'memory_budget' of this node"), std::string::npos) << factor.output;
     // The loop's solve reuses that factor; its crack Schur complement is what is refused.
-    const Child schur = run_limited({"run", mode1, "--fast", "--set", "solve.memory_budget=1e-5", "--out", (dir / "b").string()});
+    const Child schur = run_limited({"run", mode1, "--fast", "--set", "fracture/solve.memory_budget=1e-5", "--out", (dir / "b").string()});
     EXPECT_EQ(schur.code(), 1) << schur.output;
-    EXPECT_NE(schur.output.find("node 'solve'"), std::string::npos) << schur.output;
+    EXPECT_NE(schur.output.find("node 'fracture/solve'"), std::string::npos) << schur.output;
     EXPECT_NE(schur.output.find("crack Schur complement (eq. 4.3)"), std::string::npos) << schur.output;
     EXPECT_NE(schur.output.find("above the memory budget of 1e-05 GB"), std::string::npos) << schur.output;
     EXPECT_EQ(schur.output.find("factorising the surface system"), std::string::npos) << schur.output;
     // A budget above the machine is refused for the solve as for the assembly.
-    const Child huge = run_limited({"run", mode1, "--fast", "--set", "solve0.memory_budget=1e6", "--out", (dir / "c").string()});
+    const Child huge = run_limited({"run", mode1, "--fast", "--set", "fracture/solve0.memory_budget=1e6", "--out", (dir / "c").string()});
     EXPECT_EQ(huge.code(), 1) << huge.output;
     EXPECT_NE(huge.output.find("'memory_budget' is 1e+06 GB, more than the"), std::string::npos) << huge.output;
 

@@ -121,7 +121,9 @@ TEST(ExportFragmentsNode, PreviewCameraParametersAreChecked) {
 // The same rules are declared beside the ports, so validation names the parameter's FILE:LINE
 // before the fracture loop runs (they used to fail only at the end of the run).
 TEST(ExportFragmentsNode, ValidationNamesTheInputsTheDisplacementOptionsNeed) {
-    std::ifstream f(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/edge_crack_mode1.yaml");
+    // The fragments are exported in the fracture loop's file, pipelines/lib/fracture.yaml, which
+    // edge_crack_mode1.yaml uses: an edited copy of it beside a copy of the case.
+    std::ifstream f(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/lib/fracture.yaml");
     ASSERT_TRUE(f);
     std::stringstream ss;
     ss << f.rdbuf();
@@ -131,17 +133,22 @@ TEST(ExportFragmentsNode, ValidationNamesTheInputsTheDisplacementOptionsNeed) {
     ASSERT_NE(at, std::string::npos);
     const int line = 1 + int(std::count(text.begin(), text.begin() + long(at), '\n'));
     text.replace(at, plain.size(), "params: {format: obj, displacement: continuous_and_opening, close_gaps: true}");
+    const std::filesystem::path dir = temp_dir("export-fragments-validation");
+    std::filesystem::create_directories(dir / "lib");
+    std::ofstream(dir / "lib" / "fracture.yaml") << text;
+    std::ifstream c(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/edge_crack_mode1.yaml");
+    std::ofstream(dir / "edge.yaml") << c.rdbuf();
     std::vector<graph::Diagnostic> diags;
-    graph::load_pipeline_text(text, "edge.yaml", node_registry(), {}, diags);
+    graph::load_pipeline_file((dir / "edge.yaml").string(), node_registry(), {}, diags);
     std::string all;
     for (const auto& d : diags) all += graph::format(d) + "\n";
     ASSERT_EQ(diags.size(), 3u) << all;
     for (const auto& d : diags) EXPECT_EQ(d.loc.line, line) << all;
-    EXPECT_NE(all.find("parameter 'displacement' = continuous_and_opening of node 'export' (export.fragments) needs the "
+    EXPECT_NE(all.find("parameter 'displacement' = continuous_and_opening of node 'fracture/export' (export.fragments) needs the "
                        "input 'solution' (BemSolution)"), std::string::npos) << all;
-    EXPECT_NE(all.find("parameter 'displacement' = continuous_and_opening of node 'export' (export.fragments) needs the "
+    EXPECT_NE(all.find("parameter 'displacement' = continuous_and_opening of node 'fracture/export' (export.fragments) needs the "
                        "input 'cracks'"), std::string::npos) << all;
-    EXPECT_NE(all.find("parameter 'close_gaps' = true of node 'export' (export.fragments) needs the input 'cracks'"),
+    EXPECT_NE(all.find("parameter 'close_gaps' = true of node 'fracture/export' (export.fragments) needs the input 'cracks'"),
               std::string::npos) << all;
 }
 

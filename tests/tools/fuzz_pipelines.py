@@ -93,6 +93,9 @@ def main():
     shutil.rmtree(args.work, ignore_errors=True)
     mdir = os.path.join(args.work, "mutants")
     os.makedirs(mdir)
+    # The thesis cases use pipelines/lib/ (type: use, relative to the file): the mutants beside it.
+    if os.path.isdir(os.path.join(args.pipelines, "lib")):
+        shutil.copytree(os.path.join(args.pipelines, "lib"), os.path.join(mdir, "lib"))
     mutants = []
     for i in range(args.mutants):
         src = sources[i % len(sources)]
@@ -137,7 +140,7 @@ def main():
     # the timeout SIGTERM, which must end the run cleanly (exit 143, report written).
     quick = [m for m in valid if m[1] in QUICK]
     sample = rng.sample(quick, min(args.runs, len(quick)))
-    data_dir = os.getcwd()  # meshes are read relative to the working directory
+    data_dir = os.getcwd()
     for n, (path, src) in enumerate(sample):
         out = os.path.join(args.work, "run%02d" % n)
         t0 = time.time()
