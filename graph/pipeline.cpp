@@ -656,6 +656,7 @@ Plan Loader::load(const YAML::Node& root, const LoadOptions& options) {
     YAML::Node nodes, fast;
     bool has_fast = false;
     fast_ = options.fast;
+    require_input_files_ = options.require_input_files;
     if (!read_top_level(root, nodes, fast, has_fast, 0)) return plan;
     read_nodes(nodes, -1);  // sub-pipelines (use nodes) are read in place, with their parameters
     apply_overrides(fast, has_fast, options);  // fast: (with --fast, the used files' first) and --set

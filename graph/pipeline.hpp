@@ -96,6 +96,10 @@ std::optional<Override> parse_override(const std::string& text, std::vector<Diag
 struct LoadOptions {
     std::vector<Override> overrides;
     bool fast = false;  // apply the file's `fast:` overrides
+    // An input file (ParamDecl::reads_file) found nowhere is an error listing the paths tried;
+    // false (a batch manifest checked before its rows run, whose data may appear later): the path
+    // beside the file is kept and the run itself reports it.
+    bool require_input_files = true;
 };
 
 // Reads, validates and plans a pipeline. All problems are appended to `diags`; the plan is

@@ -177,6 +177,7 @@ private:
     std::vector<UseNode> uses_;
     int scope_ = 0;  // the scope whose YAML loc() describes
     bool fast_ = false;
+    bool require_input_files_ = true;
     std::set<std::pair<int, std::string>> input_type_reported_;
 };
 

@@ -148,8 +148,8 @@ void Loader::resolve_input_paths() {
             if (!text || text->empty()) continue;
             const std::filesystem::path base = prm.scope >= 0 ? scopes_[static_cast<std::size_t>(prm.scope)].dir : cwd;
             const InputFileSearch found = find_input_file(*text, base);
-            if (!found.found.empty()) {
-                v->second = found.found;
+            if (!found.found.empty() || !require_input_files_) {
+                v->second = found.found.empty() ? found.tried.front() : found.found;
                 continue;
             }
             std::string tried;

@@ -34,10 +34,18 @@ bool is_word(const std::string& s) {
     return true;
 }
 
+// A node's name: words joined by '/' inside sub-pipelines (fracture/propagate).
+bool is_node_path(const std::string& s) {
+    std::size_t start = 0;
+    for (std::size_t slash; (slash = s.find('/', start)) != std::string::npos; start = slash + 1)
+        if (!is_word(s.substr(start, slash - start))) return false;
+    return is_word(s.substr(start));
+}
+
 // NODE.PARAM, with names as pipelines allow them.
 bool is_override_column(const std::string& name) {
     const auto dot = name.find('.');
-    return dot != std::string::npos && is_word(name.substr(0, dot)) && is_word(name.substr(dot + 1));
+    return dot != std::string::npos && is_node_path(name.substr(0, dot)) && is_word(name.substr(dot + 1));
 }
 
 // An id names a folder under --out, so it must be a plain, portable file name.

@@ -21,6 +21,7 @@ std::string src(const std::string& rel) { return std::string(CRACKFLOW_SOURCE_DI
 fs::path write_manifest(const std::string& name, const std::string& text) {
     const fs::path dir = cf::testing::temp_dir("manifest");
     fs::copy_file(src("tests/runtime/data/batch/tension.yaml"), dir / "tension.yaml");
+    fs::copy_file(src("tests/runtime/data/batch/box.off"), dir / "box.off");  // read beside the pipeline
     std::ofstream(dir / name) << text;
     return dir / name;
 }

@@ -268,3 +268,49 @@ TEST(Cli, OutputPathsStayInsideTheOutputDirectory) {
     EXPECT_EQ(r.code, 2) << r.output;
     EXPECT_NE(r.output.find("report.json"), std::string::npos) << r.output;
 }
+
+// run --print-pipeline: a thesis case as it would run, from another working directory: the
+// sub-pipelines expanded (no use node left, their nodes named USE/NODE), --fast and --set applied
+// (a boundary-condition text with colons needs no inner quotes and reaches both solves, the
+// declared parameter's two targets), the mesh path absolute; the printed file validates and
+// nothing was run.
+TEST(Cli, PrintPipelineShowsTheExpandedPipelineAfterOverrides) {
+    const auto dir = cf::testing::temp_dir("cli-print-pipeline");
+    const std::string bc = "feet: displacement 0 0 0; claw_left: traction -2e6 0 0; *: traction 0 0 0";
+    Outcome o = run_cli("run " + src("pipelines/armadillo_tearing.yaml") + " --fast --set 'fracture.boundary_conditions=" + bc +
+                        "' --set fracture.max_iterations=2 --print-pipeline --out " + (dir / "out").string() + " 2>/dev/null > " +
+                        (dir / "printed.yaml").string());
+    ASSERT_EQ(o.code, 0) << o.output;
+    std::ifstream in(dir / "printed.yaml");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const YAML::Node printed = YAML::Load(text);
+    const YAML::Node nodes = printed["nodes"];
+    ASSERT_TRUE(nodes.IsMap()) << text;
+    EXPECT_EQ(text.find("type: use"), std::string::npos) << text;
+    EXPECT_EQ(nodes["fracture/solve0"]["params"]["boundary_conditions"].as<std::string>(), bc);
+    EXPECT_EQ(nodes["fracture/steps"]["body"]["fracture/solve"]["params"]["boundary_conditions"].as<std::string>(), bc);
+    EXPECT_EQ(nodes["fracture/steps"]["params"]["max_iterations"].as<int>(), 2);
+    EXPECT_EQ(nodes["body/object"]["params"]["voxel_size"].as<double>(), 4.0e-3);  // the case's fast: r_f
+    const std::string mesh = nodes["armadillo"]["params"]["path"].as<std::string>();
+    EXPECT_TRUE(std::filesystem::path(mesh).is_absolute()) << mesh;
+    EXPECT_TRUE(std::filesystem::exists(mesh)) << mesh;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "report.json"));
+    Outcome v = run_cli("validate " + (dir / "printed.yaml").string());
+    EXPECT_EQ(v.code, 0) << v.output;
+}
+
+// A mesh path that resolves nowhere: validate names the parameter's line and every absolute path
+// it tried (beside the pipeline file, each CRACKFLOW_DATA_PATH directory, the build's data).
+TEST(Cli, MissingInputFileNamesTheAbsolutePathsTried) {
+    const auto dir = cf::testing::temp_dir("cli-missing-mesh");
+    std::ofstream(dir / "p.yaml") << "nodes:\n  part: {type: import.mesh, params: {path: meshes/nowhere.off}}\n";
+    Outcome o = run_cli("validate " + (dir / "p.yaml").string());
+    EXPECT_EQ(o.code, 2) << o.output;
+    EXPECT_NE(o.output.find((dir / "p.yaml").string() + ":2:44: error: input file 'meshes/nowhere.off' of node 'part'"),
+              std::string::npos)
+        << o.output;
+    EXPECT_NE(o.output.find("    " + (dir / "meshes" / "nowhere.off").string() + "\n"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("/data/meshes/nowhere.off"), std::string::npos) << o.output;
+    Outcome e = run_cli("validate " + (dir / "p.yaml").string() + " --set part.path=" + (dir / "elsewhere.off").string());
+    EXPECT_NE(e.output.find("    " + (dir / "elsewhere.off").string() + "\n"), std::string::npos) << e.output;
+}

@@ -1,6 +1,7 @@
 # Writes data/prototype_cube_m1_n5.txt: V, K, D of the reference numpy prototype
-# (/work/shared/reference/sgbem-prototype/elas.py) on the 12-triangle unit cube with n = 5.
-# Run (Debian python3 with numpy): cd /work/shared/reference/sgbem-prototype && /usr/bin/python3 <this file> <output path>
+# (elas.py of the SGBEM prototype that came with the project's reference material; it is not part of
+# this repository) on the 12-triangle unit cube with n = 5.
+# Run (Debian python3 with numpy) in the prototype's folder: /usr/bin/python3 <this file> <output path>
 import sys
 import numpy as np
 sys.path.insert(0, '.')
