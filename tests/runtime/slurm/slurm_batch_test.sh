@@ -48,7 +48,7 @@ t0=$(date +%s.%N)
 code1=$?
 t1=$(date +%s.%N)
 cat "$T/pass1.log"
-check "first pass exits 2 (a row was invalid: its mesh is missing)" test "$code1" -eq 2
+check "first pass exits 1 (a row failed)" test "$code1" -eq 1
 check "first pass: 5 tasks in 2 array jobs at MaxArraySize 4" grep -q "10 of 10 rows to run, 2 per task: 5 tasks in 2 array jobs (MaxArraySize 4)" "$T/pass1.log"
 failed1=$(awk -F, 'NR > 1 && $2 != "ok" {print $1}' "$T/slurm/summary.csv")
 check "first pass reports exactly row 'flaky' failed (got: $failed1)" test "$failed1" = flaky
