@@ -2,15 +2,21 @@
 // boundary conditions of solve.sgbem name regions of the mesh its operators were assembled on;
 // where that mesh's region names follow from the pipeline alone (procedural shapes, half-space
 // regions, simplify.remesh with or without regions carried from another known mesh), a name the
-// mesh will not have is reported at the parameter's FILE:LINE (issue 13). Every name is also
+// mesh will not have is reported at the parameter's FILE:LINE (issue 13); so is one a mesh file
+// read by import.mesh does not have (its face groups, read by the parser alone). Every name is also
 // handed to the assemble.sgbem node (its 'boundary_regions'), which checks it against the mesh
-// before assembling: meshes read from files (import.mesh) are known only then.
+// before assembling: meshes whose regions only running tells are known only then.
 #include "graph/pipeline.hpp"
 #include "graph/run_node.hpp"
 #include "nodes/bem/boundary_conditions.hpp"
+#include "nodes/import/read_mesh.hpp"
 #include "nodes/regions/region_spec.hpp"
 #include "nodes/registration.hpp"
 
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -51,6 +57,29 @@ std::string param_text(const PlanNode& n, const std::string& name) {
 bool param_bool(const PlanNode& n, const std::string& name) {
     const auto it = n.params.find(name);
     return it != n.params.end() && std::holds_alternative<bool>(it->second) && std::get<bool>(it->second);
+}
+
+// Region names of a mesh file (the loader resolved the path): its parser alone, no checks, so a
+// misspelt boundary-condition region is reported by validate, before any level set is computed.
+// Files over 64 MB (seconds to parse) and files that do not parse are left to the assembly's check.
+Names file_regions(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (path.empty() || !fs::is_regular_file(path, ec) || fs::file_size(path, ec) > (std::uintmax_t(64) << 20) || ec)
+        return std::nullopt;
+    try {
+        std::ifstream in(path, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (!in && !in.eof()) return std::nullopt;
+        const MeshSoup soup = read_mesh_soup(path, fs::path(path).extension().string(), bytes);
+        std::set<std::string> names;
+        for (const SoupFace& f : soup.faces)
+            names.insert(f.region < 0 ? std::string("default") : soup.region_names.at(std::size_t(f.region)));
+        if (names.empty()) return std::nullopt;
+        return names;
+    } catch (const std::exception&) {
+        return std::nullopt;  // import.mesh reports the file's own errors when it runs
+    }
 }
 
 // Region names of the mesh node `i` outputs, where the pipeline alone decides them.
@@ -94,6 +123,7 @@ Names mesh_regions(const Plan& plan, int i, int depth = 0) {
         }
         return it->second;
     }
+    if (type == "import.mesh") return file_regions(param_text(n, "path"));
     if (type == "regions.halfspace") {
         Names names = spec_names();
         if (!names) return names;

@@ -116,8 +116,8 @@ TEST(BemNodes, ValidateNamesARegionTheUpstreamMeshWillNotHave) {
     EXPECT_EQ(diagnostics(pipeline(remesh, "coarse.mesh", "z_min: displacement 0 0 0; *: pressure 1")), "");
     EXPECT_NE(diagnostics(pipeline(remesh, "plain.mesh", "z_min: displacement 0 0 0; *: pressure 1")).find("its regions: surface"),
               std::string::npos);
-    // A mesh read from a file is not known to validate: the loader hands the names to the assembly,
-    // which checks them against the mesh before assembling.
+    // A mesh file that validate cannot read (here: none) is left to the assembly: the loader hands
+    // the names to it, and it checks them against the mesh before assembling.
     const std::string file = pipeline("  file: {type: import.mesh, params: {path: nowhere.obj}}\n", "file.mesh",
                                       "lid: pressure 1; z_min: displacement 0 0 0; *: traction 0 0 0");
     EXPECT_EQ(diagnostics(file), "");
@@ -135,6 +135,43 @@ TEST(BemNodes, ValidateNamesARegionTheUpstreamMeshWillNotHave) {
         [&] { run_node("assemble.sgbem", {{"boundary_regions", std::string("solve:lid")}}, {{"mesh", value(cube)}}); },
         {"region 'lid'", "has no triangles"}));
     EXPECT_NO_THROW(run_node("assemble.sgbem", {{"boundary_regions", std::string("solve:z_min;solve:z_max")}}, {{"mesh", value(cube)}}));
+}
+
+
+// A mesh file's face groups are read by validate (the parser alone), so a region the file does not
+// have is reported at the boundary conditions' line before any level set is computed; the file's
+// names and 'default' (faces before any group) pass.
+TEST(BemNodes, ValidateReadsTheRegionsOfAMeshFile) {
+    const auto dir = cf::testing::temp_dir("validate-file-regions");
+    {
+        std::ofstream obj(dir / "lidded.obj");
+        obj << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+               "f 1 3 2\n"                       // before any group: 'default'
+               "g walls\nf 1 2 4\nf 1 4 3\n"
+               "usemtl lid\nf 2 3 4\n";
+    }
+    auto diagnostics = [&](const std::string& bc) {
+        const std::string yaml = "nodes:\n"
+                                 "  file: {type: import.mesh, params: {path: lidded.obj}}\n"
+                                 "  assemble: {type: assemble.sgbem, inputs: {mesh: file.mesh}}\n"
+                                 "  solve:\n"
+                                 "    type: solve.sgbem\n"
+                                 "    inputs: {operators: assemble.operators}\n"
+                                 "    params: {boundary_conditions: '" + bc + "'}\n";
+        const auto path = dir / "case.yaml";
+        std::ofstream(path) << yaml;
+        std::vector<graph::Diagnostic> diags;
+        graph::load_pipeline_file(path.string(), node_registry(), graph::LoadOptions{}, diags);
+        std::string text;
+        for (const auto& d : diags) text += graph::format(d) + "\n";
+        return text;
+    };
+    EXPECT_EQ(diagnostics("lid: pressure 1; walls: displacement 0 0 0; default: traction 0 0 0"), "");
+    const std::string text = diagnostics("lids: pressure 1; walls: displacement 0 0 0; *: traction 0 0 0");
+    EXPECT_NE(text.find("case.yaml:7"), std::string::npos) << text;
+    EXPECT_NE(text.find("names region 'lids'"), std::string::npos) << text;
+    EXPECT_NE(text.find("'file' (import.mesh)"), std::string::npos) << text;
+    EXPECT_NE(text.find("default, lid, walls"), std::string::npos) << text;
 }
 
 namespace {
