@@ -1,5 +1,7 @@
 #include "nodes/bem/solver.hpp"
 
+#include "nodes/bem/tip_elements.hpp"
+
 #include <algorithm>
 #include <map>
 #include <cmath>
@@ -355,12 +357,13 @@ void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const Crac
 std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<char>& interior) {
     std::vector<int> dof_nodes;
     if (cr.tip_elements) {
+        // Every node of an element where rho is not identically 0 (tip_basis: only a triangle whose three
+        // edges are all front edges has rho = 0; corner triangles with a chord keep their basis).
         std::vector<char> carries(interior.size(), 0);
-        for (const Tri& t : cr.cracks.triangles) {
-            const bool all_front = !interior[t[0]] && !interior[t[1]] && !interior[t[2]];
-            if (!all_front)
-                for (int v : t) carries[v] = 1;
-        }
+        const TipBasis basis = tip_basis(cr.cracks);
+        for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
+            if (basis.kind[e].type != TipElementKind::zero)
+                for (int v : cr.cracks.triangles[e]) carries[v] = 1;
         for (std::size_t v = 0; v < interior.size(); ++v)
             if (carries[v]) dof_nodes.push_back(static_cast<int>(v));
     } else {

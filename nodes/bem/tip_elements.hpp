@@ -31,12 +31,30 @@
 
 namespace cf::bem {
 
-// How rho behaves on a crack element: plain (no front node, rho = 1), edge (two front nodes, rho =
-// lambda of the third, local index `local`), vertex (one front node, rho = 1 - lambda of it, local index
-// `local`), zero (three front nodes: rho = 0, every basis function vanishes).
+// How rho behaves on a crack element. A node is a front node when it lies on the sheet's boundary,
+// an edge is a front edge when it has one triangle, and a chord when it has two but both its nodes
+// are front nodes (a triangle in the corner of a sheet, or one spanning a narrow strip, has all
+// three nodes on the boundary without all its edges being fronts).
+//   plain: no front node, rho = 1.
+//   edge: one front edge (local nodes other than `local`), the third node off the front: rho = lambda_local.
+//   vertex: one front node (`local`): rho = 1 - lambda_local.
+//   general: any element with a chord: rho = sum over nodes off the front of lambda_i
+//     + 4 sum over chords (p, q) of c_pq lambda_p lambda_q, the P2 interpolant of 0 at front nodes, 1 at
+//     the others, c_pq at the midpoints of chords and the linear values elsewhere. c_pq = h_f / (h_f + h_i)
+//     from the heights over the chord of its two triangles' third nodes when one is on the front (h_f)
+//     and the other is not (h_i), so that rho ~ distance to the front / distance of the first node row
+//     as on edge elements (a sliver in a corner gets a small c); 1/2 otherwise. rho is continuous
+//     across every edge (its trace on an edge depends only on that edge), 0 exactly on front edges and
+//     positive on chords, so no interior edge carries a zero opening and every front node keeps its
+//     coefficient unknown. (rho = the sum of the hats off the front, used before, vanished on every
+//     chord and on the whole of a corner triangle: edge_crack_mode1 had a front node without unknown.)
+//   zero: all three edges are front edges (an isolated triangle): rho = 0, every basis function vanishes.
 struct TipElementKind {
-    enum Type { plain, edge, vertex, zero } type = plain;
+    enum Type { plain, edge, vertex, zero, general } type = plain;
     int local = -1;
+    unsigned char front = 0;  // bit i: local node i is a front node
+    unsigned char chord = 0;  // bit e: the edge opposite local node e is a chord
+    double chord_value[3] = {0, 0, 0};  // c of each chord (rho at its midpoint)
 };
 
 struct TipBasis {
@@ -45,19 +63,26 @@ struct TipBasis {
 };
 TipBasis tip_basis(const SurfaceMesh& cracks);
 
+// d rho / d lambda_m at the midpoint of the front edge opposite local node m, moving towards m (rho
+// = slope * d / H near the edge, H the height over it): 1 on edge elements, r_m + 2 (c of the chords
+// at m) on general ones.
+double front_edge_rho_slope(const TipElementKind& k, int m);
+
 // Values at one reference point (s, t) of an element (local order of the element's nodes): the
 // barycentric coordinates, the physical point, sqrt(rho), lambda_a / (2 sqrt(rho)) (0 on plain
-// elements) and the basis values sqrt(rho) lambda_a.
+// elements), the basis values sqrt(rho) lambda_a and d rho / d lambda_i (general elements: the curl
+// of rho is sum_i g_i curl(lambda_i)).
 struct TipPoint {
     std::array<double, 3> lambda{};
     Vec3 x;
     double sq = 1;
     std::array<double, 3> q{};
     std::array<double, 3> psi{};
+    std::array<double, 3> g{};
 };
 TipPoint tip_point(const ElementGeometry& g, const TipElementKind& k, double s, double t);
 
-// Curl of rho on an element (0 for plain and zero elements).
+// Curl of rho on an element where it is constant (edge, vertex; 0 for plain and zero elements).
 Vec3 rho_curl(const ElementGeometry& g, const TipElementKind& k);
 
 // Blocks of one element pair with the square-root basis on both (plain elements are plain P1):
@@ -72,7 +97,8 @@ void tip_pair_blocks(const ElementGeometry& a, const TipElementKind& ka, const E
                      bool same_mesh, int n, const ElasticConstants& c, bool want_k, TipPairBlocks& out);
 
 // Scalar test integral int_a int_b f(x) g(y) / r with f, g chosen among {sqrt(rho), lambda_a / (2 sqrt rho)}
-// (index 0: sqrt(rho), 1 + a: lambda_a / (2 sqrt(rho))), for the quadrature unit tests.
+// (index 0: sqrt(rho), 1 + a: lambda_a / (2 sqrt(rho)); general elements: 1 + 3a + i:
+// lambda_a g_i / (2 sqrt(rho))), for the quadrature unit tests.
 double tip_pair_scalar(const ElementGeometry& a, const TipElementKind& ka, int fa, const ElementGeometry& b,
                        const TipElementKind& kb, int fb, bool same_mesh, int n);
 
