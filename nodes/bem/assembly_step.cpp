@@ -128,8 +128,9 @@ void append_cracks(const AssemblyRequest& rq, const BemOperators* reuse, BemOper
     rep.crack_pairs = static_cast<std::size_t>(out.cracks->pairs_computed_last);
     if (out.tip_elements) {
         // The front moves every step: the square-root blocks are re-integrated from the P1 base.
-        out.tip = tip_crack_operators(*out.surface, *out.cracks);
+        out.tip = tip_crack_operators(*out.surface, *out.cracks, reuse && reuse->tip ? reuse->tip.get() : nullptr);
         rep.tip_pairs = static_cast<std::size_t>(out.tip->tip_pairs_computed);
+        rep.tip_pairs_reused = static_cast<std::size_t>(out.tip->tip_pairs_reused);
     }
 }
 

@@ -98,6 +98,7 @@ void count_assembly(graph::NodeContext& c, const bem::AssemblyRequest& rq, const
     c.count("surface_pairs_computed", rep.surface_reused ? 0.0 : static_cast<double>(out.surface->pairs_computed));
     c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
     c.count("tip_pairs_computed", static_cast<double>(rep.tip_pairs));
+    c.count("tip_pairs_reused", static_cast<double>(rep.tip_pairs_reused));
     if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
     c.count("elements", static_cast<double>(rep.elements));
     c.count("growth_estimated", rep.estimated ? 1 : 0);

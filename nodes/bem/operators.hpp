@@ -61,6 +61,8 @@ struct CrackOperators {
     bool tip_elements = false;
     std::vector<std::array<double, 3>> basis_integral;
     std::int64_t tip_pairs_computed = 0;    // element pairs integrated with the square-root basis
+    std::int64_t tip_pairs_reused = 0;      // their corrections taken from the step before
+    std::shared_ptr<const struct TipCache> tip_cache;  // tip_elements.cpp
     Matrix Y() const { return HY + HY.transpose(); }
 };
 

@@ -308,13 +308,8 @@ bool can_extend_schur(const CrackOperators& cr, const BemSolution* previous, con
 
 // The old Schur factor (eq. 4.3) extended by the rows of the interior nodes that were no unknown
 // before: a block Cholesky update, the old rows untouched.
-void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const CrackSchur& old,
-                  const std::vector<char>& interior, double budget, CrackSchur& schur, BemSolution& sol) {
-    std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
-    for (int v : old.dof_nodes) was_dof[v] = 1;
-    std::vector<int> fresh;
-    for (std::size_t v = 0; v < interior.size(); ++v)
-        if (interior[v] && !was_dof[v]) fresh.push_back(static_cast<int>(v));
+void extend_schur_by(const SurfaceSystem& sys, const CrackOperators& cr, const CrackSchur& old, const std::vector<int>& fresh,
+                     double budget, CrackSchur& schur, BemSolution& sol) {
     schur.dof_nodes = old.dof_nodes;
     schur.dof_nodes.insert(schur.dof_nodes.end(), fresh.begin(), fresh.end());
     if (fresh.empty()) {
@@ -352,6 +347,71 @@ void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const Crac
     sol.schur_rows_added = static_cast<std::size_t>(kn);
 }
 
+void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const CrackSchur& old,
+                  const std::vector<char>& interior, double budget, CrackSchur& schur, BemSolution& sol) {
+    std::vector<char> was_dof(cr.cracks.num_vertices(), 0);
+    for (int v : old.dof_nodes) was_dof[v] = 1;
+    std::vector<int> fresh;
+    for (std::size_t v = 0; v < interior.size(); ++v)
+        if (interior[v] && !was_dof[v]) fresh.push_back(static_cast<int>(v));
+    extend_schur_by(sys, cr, old, fresh, budget, schur, sol);
+}
+
+// Square-root front elements: the previous factor's settled part (nodes whose elements were all plain)
+// kept, the rest of the unknowns (the nodes near the front, whose basis changes as the front moves)
+// appended in the same block Cholesky update as extend_schur. Returns false (nothing done) when the
+// previous factor cannot be used: another surface system, or an old settled node whose support changed.
+bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const BemSolution* previous, const std::vector<int>& dof_nodes,
+                      const SolveOptions& options, double budget, CrackSchur& schur, BemSolution& sol) {
+    const CrackSchur* old = previous ? previous->schur.get() : nullptr;
+    if (!(options.extend_schur && cr.tip_elements && old && previous->system == sol.system && previous->cracks &&
+          previous->cracks->tip_elements && old->crack_triangles <= cr.cracks.num_triangles()))
+        return false;
+    if (cr.tip_pairs_computed == 0 && old->crack_triangles == cr.cracks.num_triangles() && old->dof_nodes.size() == dof_nodes.size()) {
+        // Nothing new was integrated and no element joined: the blocks are those of the step before
+        // (the same corrections added in the same order), so is the factor.
+        schur = *old;
+        sol.extended_schur = true;
+        sol.schur_rows_added = 0;
+        return true;
+    }
+    const TipBasis basis = tip_basis(cr.cracks);
+    // Settled now: every element at the node plain.
+    std::vector<char> settled(cr.cracks.num_vertices(), 1);
+    for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
+        if (basis.kind[e].type != TipElementKind::plain)
+            for (int v : cr.cracks.triangles[e]) settled[v] = 0;
+    for (std::size_t v = 0; v < cr.cracks.num_vertices(); ++v)
+        if (basis.front[v]) settled[v] = 0;
+    std::vector<char> in_old(cr.cracks.num_vertices(), 0);
+    for (std::size_t k = 0; k < old->settled; ++k) {
+        const int v = old->dof_nodes[k];
+        if (v >= static_cast<int>(settled.size()) || !settled[v]) return false;
+        in_old[v] = 1;
+    }
+    // An old settled node in a new triangle would have a new basis function.
+    for (std::size_t t = old->crack_triangles; t < cr.cracks.num_triangles(); ++t)
+        for (int v : cr.cracks.triangles[t])
+            if (in_old[v]) return false;
+    CrackSchur kept;
+    kept.dof_nodes.assign(old->dof_nodes.begin(), old->dof_nodes.begin() + static_cast<std::ptrdiff_t>(old->settled));
+    const Eigen::Index ks = 3 * static_cast<Eigen::Index>(old->settled);
+    kept.Z = old->Z.leftCols(ks);
+    kept.L = old->L.topLeftCorner(ks, ks);
+    // Newly settled nodes first (they become part of the kept prefix next step), then the others.
+    std::vector<int> fresh, active;
+    for (int v : dof_nodes) {
+        if (in_old[v]) continue;
+        (settled[v] ? fresh : active).push_back(v);
+    }
+    const std::size_t new_settled = old->settled + fresh.size();
+    fresh.insert(fresh.end(), active.begin(), active.end());
+    if (kept.dof_nodes.empty()) return false;  // nothing to keep: factor anew
+    extend_schur_by(sys, cr, kept, fresh, budget, schur, sol);
+    schur.settled = new_settled;
+    return true;
+}
+
 // The crack nodes that carry unknowns: the interior nodes, or with square-root front elements
 // every node of an element where rho is not identically 0.
 std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<char>& interior) {
@@ -380,6 +440,19 @@ std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<cha
 void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<char>& interior, double budget,
                   CrackSchur& schur, BemSolution& sol) {
     schur.dof_nodes = crack_dof_nodes(cr, interior);
+    if (cr.tip_elements) {
+        // Settled nodes (every element at them plain P1) first, so that the next step can keep their factor.
+        const TipBasis basis = tip_basis(cr.cracks);
+        std::vector<char> settled(cr.cracks.num_vertices(), 1);
+        for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
+            if (basis.kind[e].type != TipElementKind::plain)
+                for (int v : cr.cracks.triangles[e]) settled[v] = 0;
+        std::vector<int> first, rest;
+        for (int v : schur.dof_nodes) (settled[v] && !basis.front[v] ? first : rest).push_back(v);
+        schur.settled = first.size();
+        first.insert(first.end(), rest.begin(), rest.end());
+        schur.dof_nodes = first;
+    }
     check_memory_budget(schur_bytes(double(sys.size()), 3.0 * double(schur.dof_nodes.size())), budget,
                         "the crack Schur complement (eq. 4.3) on " + std::to_string(3 * schur.dof_nodes.size()) +
                             " crack unknowns");
@@ -419,7 +492,7 @@ std::vector<Vec3> solve_cracks(const SurfaceSystem& sys, const CrackOperators& c
     const double budget = solve_budget(*sys.ops, options);
     if (can_extend_schur(cr, previous, sol, interior, options))
         extend_schur(sys, cr, *previous->schur, interior, budget, *schur, sol);
-    else
+    else if (!(cr.tip_elements && extend_tip_schur(sys, cr, previous, crack_dof_nodes(cr, interior), options, budget, *schur, sol)))
         factor_schur(sys, cr, interior, budget, *schur, sol);
     // Right-hand side of the crack rows: face loads minus known surface data.
     const auto ic = dofs3(schur->dof_nodes);

@@ -44,6 +44,9 @@ struct CrackSchur {
     std::size_t crack_triangles = 0; // crack elements it was built from
     Matrix Z;                        // A^-1 B  (size(s) x 3 dofs)
     Matrix L;                        // lower Cholesky factor of S (symmetrised)
+    // Square-root front elements: the leading `settled` unknowns are nodes whose elements are all plain
+    // P1 (their columns of W, X and Y no longer change), so the next step can keep that part of the factor.
+    std::size_t settled = 0;
 };
 
 struct SolveOptions {

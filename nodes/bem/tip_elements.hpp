@@ -102,11 +102,25 @@ void tip_pair_blocks(const ElementGeometry& a, const TipElementKind& ka, const E
 double tip_pair_scalar(const ElementGeometry& a, const TipElementKind& ka, int fa, const ElementGeometry& b,
                        const TipElementKind& kb, int fb, bool same_mesh, int n);
 
+// n x n rule on an edge or vertex element that makes its weights polynomial: rho = u^2 with u a
+// Gauss coordinate (edge: lambda_local = u^2, the rest split along the edge; vertex: lambda_local =
+// 1 - u^2, collapsed onto the front node), so sqrt(rho) = u and the Jacobian 2u(1 - u^2) or 2u^3
+// cancels 1 / sqrt(rho). Separated pairs then converge as fast as the kernel allows (the issue's
+// rho = s^2 substitution). Other kinds: the graded collapsed rule.
+TriangleRule tip_triangle_rule(const TipElementKind& k, int n);
+
+// The same for a pair integrated as separated with the given rules on a and on b (zone studies).
+double tip_separated_scalar(const ElementGeometry& a, const TipElementKind& ka, int fa, const TriangleRule& ra,
+                            const ElementGeometry& b, const TipElementKind& kb, int fb, const TriangleRule& rb);
+
 // The crack blocks with square-root front elements: a copy of the P1 blocks of `p1` in which every
-// pair with an element touching the front is replaced (P1 contribution subtracted, square-root one
+// pair with an element touching the front is corrected (P1 contribution subtracted, square-root one
 // added). Every crack node that carries a basis function is an unknown (front nodes included).
-// `basis_integral` holds int psi_a per element for face loads.
-std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1);
+// `basis_integral` holds int psi_a per element for face loads. `previous`: the square-root operators
+// of the step before (may be null); corrections of elements and pairs whose geometry and kinds did
+// not change are taken from it instead of integrated again (same numbers, same order of addition).
+std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1,
+                                                          const CrackOperators* previous = nullptr);
 
 // SIFs per front edge at the edge's midpoint from the front nodes' square-root coefficients (the
 // solution's front_coefficient), with the same tip frame as displacement correlation.
