@@ -13,6 +13,7 @@
 namespace cf {
 
 using Vec3 = Eigen::Vector3d;
+using Vec2 = Eigen::Vector2d;
 using Tri = std::array<int, 3>;
 
 struct SurfaceMesh {
@@ -20,12 +21,20 @@ struct SurfaceMesh {
     std::vector<Tri> triangles;        // counter-clockwise seen from outside (outward normals)
     std::vector<int> region;           // one region id per triangle; empty means "all region 0"
     std::vector<std::string> region_names;  // region_names[id]; may be shorter than max id + 1
+    // Optional per-corner attributes an artist's file brings (OBJ vt/vn, PLY u v / nx ny nz), carried
+    // to the fragment meshes (nodes/segment/surface_fragments.hpp). Empty: none; otherwise one entry
+    // per triangle, corners in the triangle's order. A stage that rebuilds the triangles leaves them
+    // empty; has_uv()/has_normals() also treat a stale size as none.
+    std::vector<std::array<Vec2, 3>> corner_uv;
+    std::vector<std::array<Vec3, 3>> corner_normal;
 
     std::size_t num_vertices() const { return vertices.size(); }
     std::size_t num_triangles() const { return triangles.size(); }
     int region_of(std::size_t t) const { return region.empty() ? 0 : region[t]; }
     std::string region_name(int id) const;  // name or "region<id>"
     int num_regions() const;                // max(region ids, names) + 1; at least 1 if non-empty
+    bool has_uv() const { return !triangles.empty() && corner_uv.size() == triangles.size(); }
+    bool has_normals() const { return !triangles.empty() && corner_normal.size() == triangles.size(); }
 };
 
 // Geometry of one triangle.

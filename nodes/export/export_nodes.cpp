@@ -11,7 +11,7 @@ void register_export_nodes(graph::NodeRegistry& r) {
                                      "per-triangle region ids as cell data), atomically.");
     t.input<SurfaceMesh>("mesh", "the surface to write (metres)");
     t.param_string("path", "", "output file; relative paths are relative to the run's output directory").required().writes_file();
-    t.param_choice("format", "auto", {"auto", "obj", "off", "ply", "stl", "vtp"},
+    t.param_choice("format", "auto", {"auto", "obj", "off", "ply", "stl", "vtp", "glb"},
                    "file format; auto picks it from the path's extension");
     t.param_bool("binary", true, "binary PLY / STL (smaller, faster); binary STL rounds coordinates to float32");
     t.run([](graph::NodeContext& c) {

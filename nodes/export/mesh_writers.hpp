@@ -8,12 +8,24 @@
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace cf {
 
-enum class MeshFormat { Obj, Off, Ply, Stl, Vtp };
+enum class MeshFormat { Obj, Off, Ply, Stl, Vtp, Glb };
 
 void write_obj(std::ostream& os, const SurfaceMesh& m);
+// With texture coordinates and normals when the mesh has them (vt/vn per distinct value), and,
+// when `mtllib` is not empty, "mtllib <mtllib>" and "usemtl <region name>" beside each group.
+void write_obj(std::ostream& os, const SurfaceMesh& m, const std::string& mtllib);
+// A Wavefront material library: one diffuse colour (RGB in [0, 1]) per material name.
+void write_mtl(std::ostream& os, const std::vector<std::pair<std::string, Vec3>>& materials);
+// glTF 2.0 binary: one mesh, one primitive per region with a material of the region's name
+// (colours from `colours`, by region name; grey when absent), POSITION, NORMAL (the corner normals,
+// or flat) and TEXCOORD_0 when the mesh has UVs (v flipped: glTF's origin is the top left).
+void write_glb(std::ostream& os, const SurfaceMesh& m, const std::string& name,
+               const std::vector<std::pair<std::string, Vec3>>& colours);
 void write_off(std::ostream& os, const SurfaceMesh& m);
 void write_ply(std::ostream& os, const SurfaceMesh& m, bool binary);  // binary = little endian
 void write_stl(std::ostream& os, const SurfaceMesh& m, bool binary);

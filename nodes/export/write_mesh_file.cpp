@@ -13,7 +13,8 @@ MeshFormat mesh_format_from_name(const std::string& name) {
     if (name == "ply") return MeshFormat::Ply;
     if (name == "stl") return MeshFormat::Stl;
     if (name == "vtp") return MeshFormat::Vtp;
-    throw std::invalid_argument("unknown mesh format '" + name + "'; use obj, off, ply, stl or vtp");
+    if (name == "glb") return MeshFormat::Glb;
+    throw std::invalid_argument("unknown mesh format '" + name + "'; use obj, off, ply, stl, vtp or glb");
 }
 
 MeshFormat mesh_format_from_extension(const std::filesystem::path& path) {
@@ -26,7 +27,7 @@ MeshFormat mesh_format_from_extension(const std::filesystem::path& path) {
         }
     }
     throw std::invalid_argument("cannot tell the mesh format of '" + path.string() +
-                                "' from its extension; name it .obj, .off, .ply, .stl or .vtp, or set format");
+                                "' from its extension; name it .obj, .off, .ply, .stl, .vtp or .glb, or set format");
 }
 
 const char* to_string(MeshFormat f) {
@@ -36,6 +37,7 @@ const char* to_string(MeshFormat f) {
         case MeshFormat::Ply: return "ply";
         case MeshFormat::Stl: return "stl";
         case MeshFormat::Vtp: return "vtp";
+        case MeshFormat::Glb: return "glb";
     }
     return "?";
 }
@@ -49,6 +51,7 @@ std::uintmax_t write_mesh_file(const std::filesystem::path& path, const SurfaceM
             case MeshFormat::Ply: write_ply(os, m, binary); break;
             case MeshFormat::Stl: write_stl(os, m, binary); break;
             case MeshFormat::Vtp: write_vtp(os, m); break;
+            case MeshFormat::Glb: write_glb(os, m, path.stem().string(), {}); break;
         }
     });
     return std::filesystem::file_size(path);

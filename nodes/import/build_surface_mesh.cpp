@@ -111,6 +111,7 @@ struct LocatedTriangles {
     std::vector<Tri> tris;
     std::vector<FileLocation> where;
     std::vector<int> region;  // per triangle, into MeshSoup::region_names (-1: default)
+    std::vector<std::array<std::size_t, 3>> corner;  // per triangle, its corners' positions in MeshSoup::indices
 };
 
 // Index checks and fan triangulation.
@@ -142,6 +143,7 @@ LocatedTriangles fan_triangulate(const MeshSoup& soup) {
             out.tris.push_back({corner(0), corner(k), corner(k + 1)});
             out.where.push_back(f.where);
             out.region.push_back(f.region);
+            out.corner.push_back({f.first, f.first + k, f.first + k + 1});
         }
     }
     return out;
@@ -225,6 +227,34 @@ void assign_soup_regions(const MeshSoup& soup, const std::vector<int>& soup_regi
     }
 }
 
+// Per-corner texture coordinates and normals where every corner has them (a file that gives them to
+// only some faces gets none: a fragment mesh cannot interpolate what is missing). `before` are the
+// triangles as triangulated, m.triangles the same after re-orientation: a flipped triangle's
+// corners are matched by vertex.
+void assign_corner_attributes(const MeshSoup& soup, const LocatedTriangles& lt, const std::vector<Tri>& before,
+                              SurfaceMesh& m) {
+    auto complete = [&](const std::vector<long long>& c, std::size_t n) {
+        if (c.size() != soup.indices.size() || n == 0) return false;
+        for (long long i : c)
+            if (i < 0 || i >= static_cast<long long>(n)) return false;
+        return true;
+    };
+    const bool uv = complete(soup.corner_uv, soup.uvs.size()), normal = complete(soup.corner_normal, soup.normals.size());
+    if (uv) m.corner_uv.resize(m.triangles.size());
+    if (normal) m.corner_normal.resize(m.triangles.size());
+    for (std::size_t t = 0; t < m.triangles.size() && (uv || normal); ++t)
+        for (int k = 0; k < 3; ++k) {
+            int j = 0;
+            while (j < 2 && before[t][j] != m.triangles[t][k]) ++j;
+            const std::size_t c = lt.corner[t][std::size_t(j)];
+            if (uv) m.corner_uv[t][k] = soup.uvs[std::size_t(soup.corner_uv[c])];
+            if (normal) {
+                const Vec3 n = soup.normals[std::size_t(soup.corner_normal[c])];
+                m.corner_normal[t][k] = n.norm() > 0 ? Vec3(n.normalized()) : n;
+            }
+        }
+}
+
 }  // namespace
 
 ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& options) {
@@ -239,6 +269,7 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
     weld_and_compact(soup, options, lt.tris, out);
     SurfaceMesh& m = out.mesh;
     check_degenerate(m.vertices, lt, file, options.weld_tolerance > 0 || soup.weld_by_position);
+    const std::vector<Tri> triangulated = lt.tris;
     const SurfaceCheckResult check = check_closed_surface(m.vertices, lt.tris, file, lt.where, options.reorient);
     rep.flipped_triangles = check.flipped_triangles;
     rep.components = check.components;
@@ -246,6 +277,7 @@ ImportedMesh build_surface_mesh(const MeshSoup& soup, const ImportOptions& optio
     apply_scale(options.scale, file, m);
     m.triangles = std::move(lt.tris);
     assign_soup_regions(soup, lt.region, m);
+    assign_corner_attributes(soup, lt, triangulated, m);
     return out;
 }
 

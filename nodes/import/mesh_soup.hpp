@@ -38,6 +38,12 @@ struct MeshSoup {
     int index_base = 0;               // 1 for OBJ (indices printed as the file has them)
     bool weld_by_position = false;    // STL stores each facet's corners separately
     std::vector<std::string> region_names;  // named face groups (OBJ g/o/usemtl, PLY face property)
+    // Optional texture coordinates and normals (OBJ vt/vn; PLY per-vertex u v / s t and nx ny nz).
+    // corner_uv / corner_normal run parallel to `indices`: a 0-based index into uvs / normals, or
+    // -1 where the corner has none. Both empty when the file has none.
+    std::vector<Vec2> uvs;
+    std::vector<Vec3> normals;
+    std::vector<long long> corner_uv, corner_normal;
 };
 
 // The id of region `name` in soup.region_names, added if new. Throws MeshFileError at `where` for a

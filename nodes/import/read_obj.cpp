@@ -2,12 +2,49 @@
 // "a/t/n"; negative indices count back from the latest vertex (OBJ's relative indices).
 // Regions: each face belongs to the name of the latest "g", "o" or "usemtl" line before it (its
 // first name; a bare "g" returns to region 'default'), so face groups and materials assigned in a
-// modelling tool become boundary regions. Everything else (normals, texture coordinates, lines) is
-// skipped.
+// modelling tool become boundary regions. Texture coordinates ("vt u v") and normals ("vn x y z")
+// referenced by "a/t/n" corners are kept per corner (carried to the fragment meshes); everything
+// else (lines, parameter-space vertices) is skipped.
 #include "nodes/import/soup_readers.hpp"
 #include "nodes/import/text_scanner.hpp"
 
 namespace cf {
+
+namespace {
+
+// The 0-based index of an OBJ attribute reference ("t" or "n" of "v/t/n"; negative counts back
+// from the latest one), or -1 for an empty reference.
+long long attribute_index(const std::string& file, const FileLocation& at, std::string_view text, std::size_t count,
+                          const char* what) {
+    if (text.empty()) return -1;
+    long long idx = 0;
+    if (!parse_integer(text, idx) || idx == 0)
+        throw MeshFileError(file_error(file, at, std::string(what) + " index " + quote_token(text) + " is not a valid index",
+                                       "write corners as 'v/t/n' with 1-based (or negative relative) indices"));
+    const long long n = static_cast<long long>(count);
+    if (idx < 0) idx = n + idx + 1;
+    if (idx < 1 || idx > n)
+        throw MeshFileError(file_error(file, at,
+                                       std::string(what) + " index " + std::string(text) + " out of range (" +
+                                           std::to_string(n) + " defined so far)",
+                                       "fix the index or define the coordinates before the face"));
+    return idx - 1;
+}
+
+// Texture and normal references of one face corner "v/t/n", "v//n" or "v/t".
+void read_corner_attributes(MeshSoup& soup, const FileLocation& at, std::string_view corner) {
+    const std::size_t s1 = corner.find('/');
+    std::string_view t, n;
+    if (s1 != std::string_view::npos) {
+        const std::size_t s2 = corner.find('/', s1 + 1);
+        t = corner.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
+        if (s2 != std::string_view::npos) n = corner.substr(s2 + 1);
+    }
+    soup.corner_uv.push_back(attribute_index(soup.file, at, t, soup.uvs.size(), "texture coordinate"));
+    soup.corner_normal.push_back(attribute_index(soup.file, at, n, soup.normals.size(), "normal"));
+}
+
+}  // namespace
 
 MeshSoup read_obj_soup(const std::string& file, std::string_view bytes) {
     MeshSoup soup;
@@ -28,6 +65,16 @@ MeshSoup read_obj_soup(const std::string& file, std::string_view bytes) {
                                                "write vertices as 'v x y z'"));
             soup.vertices.emplace_back(parse_coordinate(file, ln, tok[1]), parse_coordinate(file, ln, tok[2]),
                                        parse_coordinate(file, ln, tok[3]));
+        } else if (tok[0] == "vt") {
+            if (tok.size() < 2)
+                throw MeshFileError(file_error(file, at, "texture coordinate has no values", "write 'vt u v'"));
+            soup.uvs.emplace_back(parse_coordinate(file, ln, tok[1]), tok.size() >= 3 ? parse_coordinate(file, ln, tok[2]) : 0.0);
+        } else if (tok[0] == "vn") {
+            if (tok.size() < 4)
+                throw MeshFileError(file_error(file, at, "normal has " + std::to_string(tok.size() - 1) + " components",
+                                               "write normals as 'vn x y z'"));
+            soup.normals.emplace_back(parse_coordinate(file, ln, tok[1]), parse_coordinate(file, ln, tok[2]),
+                                      parse_coordinate(file, ln, tok[3]));
         } else if (tok[0] == "g" || tok[0] == "o" || tok[0] == "usemtl") {
             region = tok.size() >= 2 ? soup_region(soup, std::string(tok[1]), at) : -1;
         } else if (tok[0] == "f") {
@@ -52,11 +99,20 @@ MeshSoup read_obj_soup(const std::string& file, std::string_view bytes) {
                     idx = nv + idx + 1;
                 }
                 soup.indices.push_back(idx);
+                read_corner_attributes(soup, at, tok[k]);
             }
             face.count = soup.indices.size() - face.first;
             soup.faces.push_back(face);
         }
     }
+    // No corner references any attribute: the soup has none (keeps plain files cheap).
+    auto unused = [](const std::vector<long long>& c) {
+        for (long long i : c)
+            if (i >= 0) return false;
+        return true;
+    };
+    if (unused(soup.corner_uv)) soup.corner_uv.clear();
+    if (unused(soup.corner_normal)) soup.corner_normal.clear();
     return soup;
 }
 

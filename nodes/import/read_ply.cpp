@@ -4,6 +4,8 @@
 // integer type); every other element and property is parsed and skipped. Regions: an integer
 // face property named region, material_index, material or group (the first of these present, in
 // this order) gives each face the region '<property><value>', e.g. region3 or material0.
+// Per-vertex texture coordinates (u v, s t or texture_u texture_v) and normals (nx ny nz) are kept
+// and given to every corner of the vertex (carried to the fragment meshes).
 #include "nodes/import/soup_readers.hpp"
 #include "nodes/import/text_scanner.hpp"
 
@@ -184,7 +186,7 @@ void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor&
                    const std::function<FileLocation()>& here) {
     for (const Element& e : elements) {
         const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        int ix = -1, iy = -1, iz = -1, iface = -1, iregion = -1;
+        int ix = -1, iy = -1, iz = -1, iface = -1, iregion = -1, iu = -1, iv = -1, inx = -1, iny = -1, inz = -1;
         if (is_face) iregion = face_region_property(e);
         for (int p = 0; p < static_cast<int>(e.props.size()); ++p) {
             const std::string& n = e.props[p].name;
@@ -192,11 +194,18 @@ void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor&
                 if (n == "x") ix = p;
                 if (n == "y") iy = p;
                 if (n == "z") iz = p;
+                if (n == "u" || n == "s" || n == "texture_u" || n == "texture_s") iu = p;
+                if (n == "v" || n == "t" || n == "texture_v" || n == "texture_t") iv = p;
+                if (n == "nx") inx = p;
+                if (n == "ny") iny = p;
+                if (n == "nz") inz = p;
             }
             if (is_face && e.props[p].is_list && (n == "vertex_indices" || n == "vertex_index")) iface = p;
         }
+        const bool has_uv = iu >= 0 && iv >= 0, has_normal = inx >= 0 && iny >= 0 && inz >= 0;
         for (long long i = 0; i < e.count; ++i) {
-            Vec3 v = Vec3::Zero();
+            Vec3 v = Vec3::Zero(), normal = Vec3::Zero();
+            Vec2 uv = Vec2::Zero();
             const FileLocation at = here();
             SoupFace face{soup.indices.size(), 0, at};
             for (int p = 0; p < static_cast<int>(e.props.size()); ++p) {
@@ -206,6 +215,11 @@ void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor&
                     if (p == ix) v.x() = x.real();
                     if (p == iy) v.y() = x.real();
                     if (p == iz) v.z() = x.real();
+                    if (p == iu) uv.x() = x.real();
+                    if (p == iv) uv.y() = x.real();
+                    if (p == inx) normal.x() = x.real();
+                    if (p == iny) normal.y() = x.real();
+                    if (p == inz) normal.z() = x.real();
                     if (p == iregion) face.region = soup_region(soup, pr.name + std::to_string(x.i), at);
                     continue;
                 }
@@ -225,6 +239,8 @@ void read_elements(MeshSoup& soup, const std::vector<Element>& elements, Cursor&
                                                    "vertex " + std::to_string(i) + " has a NaN or infinite coordinate",
                                                    "replace NaN/Inf coordinates with finite values (re-export the mesh)"));
                 soup.vertices.push_back(v);
+                if (has_uv) soup.uvs.push_back(uv);
+                if (has_normal) soup.normals.push_back(normal);
             }
             if (is_face) soup.faces.push_back(face);
         }
@@ -384,6 +400,9 @@ MeshSoup read_ply_soup(const std::string& file, std::string_view bytes) {
         BinaryCursor cur(file, bytes, data_start, h.enc == Encoding::BinaryBig);
         read_elements(soup, h.elements, cur, [&] { return FileLocation{0, static_cast<long long>(cur.position())}; });
     }
+    // Per-vertex attributes: every corner uses its vertex's (the index is checked with the vertex's).
+    if (!soup.uvs.empty() && soup.uvs.size() == soup.vertices.size()) soup.corner_uv = soup.indices;
+    if (!soup.normals.empty() && soup.normals.size() == soup.vertices.size()) soup.corner_normal = soup.indices;
     return soup;
 }
 

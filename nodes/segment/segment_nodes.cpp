@@ -8,6 +8,7 @@
 #include "nodes/segment/fragment_export.hpp"
 #include "nodes/segment/fragments.hpp"
 
+#include <iostream>
 #include <memory>
 #include <stdexcept>
 
@@ -68,7 +69,19 @@ graph::NodeType fragments_node() {
 
 void declare_export_fragments_params(graph::NodeType& t) {
     t.param_bool("meshes", true, "write one mesh file per fragment");
-    t.param_choice("format", "obj", {"obj", "ply", "stl", "off"}, "mesh file format");
+    t.param_choice("format", "obj", {"obj", "ply", "stl", "off", "glb"},
+                   "mesh file format: obj (with <prefix>s.mtl: a material per input region and 'inside', UVs, "
+                   "normals), ply (face properties region and inside, vertex u v nx ny nz), glb (glTF 2.0, a "
+                   "material per region in the fragment's preview colour), stl or off (geometry only)");
+    t.param_choice("mesher", "auto", {"auto", "surface", "levelset"},
+                   "surface: the input mesh ('surface' input) clipped by each fragment's cell: the input's own "
+                   "triangles with their UVs, normals and materials outside, fracture faces in the group/material "
+                   "'inside' with box-projected UVs; levelset: the dual-contoured fragment grid (App. A item 22); "
+                   "auto: surface when the 'surface' input is connected");
+    t.param_real("cell_margin", 2, "voxels",
+                 "surface mesher: how far a fragment's cell reaches beyond the fragment's level-set surface, in "
+                 "voxels r_f; input detail further out than this from the level set is cut off")
+        .range(1, 8);
     t.param_bool("binary", true, "binary PLY/STL (ignored for OBJ/OFF)");
     t.param_real("adaptivity", 0.0, "", "mesh adaptivity in [0, 1] (App. A item 22): 0 keeps every polygon").range(0, 1);
     t.param_choice("displacement", "none", {"none", "continuous", "continuous_and_opening"},
@@ -83,9 +96,10 @@ void declare_export_fragments_params(graph::NodeType& t) {
                  "needs the 'cracks' input");
     t.param_bool("vdb", true, "write all fragment grids into fragments.vdb (undeformed)");
     t.param_bool("preview", true, "render an exploded preview PNG (undeformed)");
-    t.param_real("explode", 0.3, "", "preview: fragments move by this fraction of their centroid offset").range(0, 5);
-    t.param_int("width", 640, "preview width [pixels]").range(16, 8192);
-    t.param_int("height", 480, "preview height [pixels]").range(16, 8192);
+    t.param_real("explode", 1.0, "", "preview: fragments move by this fraction of their centroid offset").range(0, 5);
+    t.param_bool("contact_sheet", true, "preview: four views in one PNG (the oblique 'view', front, side, top)");
+    t.param_int("width", 640, "preview width of each view [pixels]").range(16, 8192);
+    t.param_int("height", 480, "preview height of each view [pixels]").range(16, 8192);
     t.param_reals("up", {0, 0, 1}, "", "preview: the scene's vertical, drawn upwards (0 1 0 for most imported meshes)")
         .size(3);
     t.param_reals("view", {0.5, -1.2, 0.7}, "",
@@ -104,6 +118,17 @@ FragmentExportOptions export_options(graph::NodeContext& c) {
     o.vdb = c.boolean("vdb");
     o.preview = c.boolean("preview");
     o.preview_options.explode = c.real("explode");
+    o.contact_sheet = c.boolean("contact_sheet");
+    const std::string mesher = c.string("mesher");
+    o.mesher.kind = mesher == "surface" || (mesher == "auto" && c.has("surface")) ? FragmentMesherKind::surface
+                                                                                  : FragmentMesherKind::levelset;
+    if (o.mesher.kind == FragmentMesherKind::surface) {
+        if (!c.has("surface"))
+            c.fail("parameter 'mesher' = surface needs the input 'surface' (the mesh the object's level set was made "
+                   "from), or set 'mesher' to levelset");
+        o.mesher.surface = &c.in<SurfaceMesh>("surface");
+    }
+    o.mesher.margin_voxels = c.real("cell_margin");
     o.preview_options.width = int(c.integer("width"));
     o.preview_options.height = int(c.integer("height"));
     o.preview_options.up = vec3_param(c, "up");
@@ -139,6 +164,12 @@ DeformationOptions deformation_options(graph::NodeContext& c) {
 void count_export(graph::NodeContext& c, const FragmentExportOptions& o, const FragmentExportResult& r) {
     c.count("files", double(r.files.size()));
     c.count("triangles", double(r.triangles));
+    if (o.mesher.kind == FragmentMesherKind::surface) {
+        // A fragment the surface mesher could not clip is written as its level-set mesh; the
+        // count says how many, stderr says which and why.
+        c.count("fallback_fragments", double(r.fallback_fragments));
+        for (const std::string& w : r.warnings) std::cerr << "warning: export.fragments: " << w << '\n';
+    }
     if (o.deformation) {
         c.count("vertices_on_crack_sheets", double(r.deformation.on_crack));
         c.count("vertices_opened", double(r.deformation.opened));
@@ -176,8 +207,11 @@ void run_export_fragments(graph::NodeContext& c) {
 
 graph::NodeType export_fragments_node() {
     graph::NodeType t("export.fragments",
-                      "Writes each fragment as a mesh (dual contouring of its grid at an adaptivity), all fragment "
-                      "grids into one .vdb (Houdini/Blender), and an exploded preview PNG (ch. 6.4, listing 2). "
+                      "Writes each fragment as a mesh (the input surface clipped by the fragment's cell, keeping its "
+                      "UVs, normals and materials, with fracture faces in the material 'inside'; or dual contouring "
+                      "of its grid at an adaptivity), all fragment grids into one .vdb (Houdini/Blender), and an "
+                      "exploded preview PNG: a contact sheet of four views, each fragment in its own colour, "
+                      "fracture faces in a pale shade of it (ch. 6.4, listing 2). "
                       "The mesh files can be deformed (App. A items 23-25; the acceleration grid cell r_c is the BEM mesh's mean edge length): 'continuous' adds the BEM displacement "
                       "interpolated linearly in the closest coarse triangle (nodal u on the ordinary surface, the "
                       "crack's average displacement u_c on crack sheets); 'continuous_and_opening' also adds "
@@ -187,14 +221,19 @@ graph::NodeType export_fragments_node() {
                       "recorded crack surfaces, removing the sqrt(3) r_f gap of the thickened cracks. The .vdb "
                       "grids and the preview stay undeformed.");
     t.input<Fragments>("fragments", "from segment.fragments");
+    t.optional_input<SurfaceMesh>("surface",
+                                  "the object's input mesh (import.mesh or shape.*, before remeshing) for the surface "
+                                  "mesher: its triangles, UVs, normals and regions become the fragments' outer faces");
     t.optional_input<bem::BemSolution>("solution", "from solve.sgbem; needed when 'displacement' is not none");
     t.optional_input<CrackLevelSets>("cracks",
                                      "the crack grids the fragments were cut with (same r_f, crack r = BEM crack "
                                      "region r); needed for 'continuous_and_opening' and 'close_gaps'");
     declare_export_fragments_params(t);
     t.writes_fixed("<prefix>_*.<format>", "meshes");
+    t.writes_fixed("<prefix>s.mtl", "meshes");
     t.writes_fixed("<prefix>s.vdb", "vdb");
     t.writes_fixed("<prefix>s_preview.png", "preview");
+    t.input_needed_when("surface", "mesher", {"surface"}, "the input mesh whose triangles the fragments keep");
     t.input_needed_when("solution", "displacement", {"continuous", "continuous_and_opening"},
                         "the BEM displacement that deforms the meshes");
     t.input_needed_when("cracks", "displacement", {"continuous_and_opening"},

@@ -1,0 +1,192 @@
+// CGAL translation unit: the input surface intersected with a fragment's cell
+// (surface_fragments.hpp). Corefinement (CGAL::Polygon_mesh_processing) splits the faces of both
+// meshes along their intersection and keeps the parts of each inside the other; a visitor records
+// for every face which input triangle it came from (-1: a cell face), so attributes can be copied.
+#include "nodes/segment/surface_fragments.hpp"
+
+#include "nodes/domain/mesh_topology.hpp"
+#include "nodes/simplify/cgal_surface_mesh.hpp"
+
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/boost/graph/helpers.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace cf {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using cgal_mesh::Mesh;
+using Face = Mesh::Face_index;
+using OriginMap = Mesh::Property_map<Face, int>;
+
+Vec2 InsideUvProjection::operator()(const Vec3& p, const Vec3& n) const {
+    const Vec3 q = (p - origin) / scale;
+    const Vec3 a = n.cwiseAbs();
+    if (a.x() >= a.y() && a.x() >= a.z()) return Vec2(q.y(), q.z());
+    if (a.y() >= a.z()) return Vec2(q.x(), q.z());
+    return Vec2(q.x(), q.y());
+}
+
+namespace {
+
+constexpr const char* kOrigin = "f:cf_origin";
+
+// Carries the origin of every face through the corefinement: a split face's pieces keep its
+// origin, a face copied into the output brings it along. Copies share the maps and the current value.
+struct OriginVisitor : PMP::Corefinement::Default_visitor<Mesh> {
+    const Mesh* input = nullptr;
+    const Mesh* cell = nullptr;
+    OriginMap in_map, cell_map, out_map;
+    std::shared_ptr<int> current = std::make_shared<int>(-1);
+
+    OriginMap& map_of(const Mesh& m) { return &m == input ? in_map : &m == cell ? cell_map : out_map; }
+    void before_subface_creations(Face f, Mesh& m) { *current = map_of(m)[f]; }
+    void after_subface_created(Face f, Mesh& m) { map_of(m)[f] = *current; }
+    void after_face_copy(Face src, const Mesh& ms, Face dst, Mesh& md) { map_of(md)[dst] = map_of(ms)[src]; }
+};
+
+// Barycentric weights of p on triangle (a, b, c) (p projected onto its plane).
+Vec3 barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 e0 = b - a, e1 = c - a, d = p - a;
+    const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = d.dot(e0), d21 = d.dot(e1);
+    const double den = d00 * d11 - d01 * d01;
+    if (!(std::abs(den) > 0)) return Vec3(1.0 / 3, 1.0 / 3, 1.0 / 3);
+    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+    return Vec3(1 - v - w, v, w);
+}
+
+// Why `m` cannot enter the corefinement, or "".
+std::string corefinement_problem(const Mesh& m) {
+    if (!CGAL::is_closed(m)) return "is not closed";
+    if (!CGAL::is_triangle_mesh(m)) return "is not a triangle mesh";
+    if (PMP::does_self_intersect(m)) return "intersects itself";
+    return "";
+}
+
+}  // namespace
+
+struct SurfaceClipper::Impl {
+    SurfaceMesh input;
+    Mesh mesh;  // with the origin map: input triangle index per face
+    InsideUvProjection projection;
+    int inside = 0;
+
+    // The clipped CGAL mesh as a SurfaceMesh with regions and corner attributes.
+    SurfaceMesh convert(const Mesh& out, const OriginMap& origin) const {
+        SurfaceMesh m = cgal_mesh::from_cgal(out);
+        m.region_names.resize(std::size_t(inside));
+        for (int r = 0; r < inside; ++r) m.region_names[std::size_t(r)] = input.region_name(r);
+        m.region_names.push_back(kInsideRegion);
+        m.region.resize(m.triangles.size());
+        m.corner_uv.resize(m.triangles.size());
+        m.corner_normal.resize(m.triangles.size());
+        std::size_t t = 0;
+        for (Face f : out.faces()) {
+            const int o = origin[f];
+            const Tri& tri = m.triangles[t];
+            if (o < 0) {
+                const Vec3 n = triangle_normal(m, t);
+                m.region[t] = inside;
+                for (int k = 0; k < 3; ++k) {
+                    m.corner_uv[t][k] = projection(m.vertices[std::size_t(tri[k])], n);
+                    m.corner_normal[t][k] = n;
+                }
+            } else {
+                const Tri& src = input.triangles[std::size_t(o)];
+                const Vec3 &a = input.vertices[std::size_t(src[0])], &b = input.vertices[std::size_t(src[1])],
+                           &c = input.vertices[std::size_t(src[2])];
+                const Vec3 n = triangle_normal(input, std::size_t(o));
+                m.region[t] = input.region_of(std::size_t(o));
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3& p = m.vertices[std::size_t(tri[k])];
+                    const Vec3 w = barycentric(p, a, b, c);
+                    if (input.has_uv()) {
+                        const auto& uv = input.corner_uv[std::size_t(o)];
+                        m.corner_uv[t][k] = w[0] * uv[0] + w[1] * uv[1] + w[2] * uv[2];
+                    } else {
+                        m.corner_uv[t][k] = projection(p, n);
+                    }
+                    if (input.has_normals()) {
+                        const auto& nn = input.corner_normal[std::size_t(o)];
+                        const Vec3 s = w[0] * nn[0] + w[1] * nn[1] + w[2] * nn[2];
+                        m.corner_normal[t][k] = s.norm() > 0 ? Vec3(s.normalized()) : n;
+                    } else {
+                        m.corner_normal[t][k] = n;
+                    }
+                }
+            }
+            ++t;
+        }
+        return m;
+    }
+};
+
+SurfaceClipper::SurfaceClipper(const SurfaceMesh& input) : impl_(std::make_unique<Impl>()) {
+    const std::string fix = "; repair the input mesh (simplify.remesh, or a modelling tool) or set mesher: levelset";
+    if (input.triangles.empty()) throw std::invalid_argument("the input surface has no triangles" + fix);
+    impl_->input = input;
+    impl_->mesh = cgal_mesh::to_cgal(input, "the surface mesher");
+    if (const std::string p = corefinement_problem(impl_->mesh); !p.empty())
+        throw std::invalid_argument("the input surface " + p + fix);
+    OriginMap origin = impl_->mesh.add_property_map<Face, int>(kOrigin, -1).first;
+    int t = 0;
+    for (Face f : impl_->mesh.faces()) origin[f] = t++;  // faces in triangle order (to_cgal adds them so)
+    const Box3 box = bounding_box(input);
+    impl_->projection.origin = box.min;
+    impl_->projection.scale = std::max(box.extent().maxCoeff(), 1e-300);
+    impl_->inside = input.num_regions();
+}
+
+SurfaceClipper::~SurfaceClipper() = default;
+
+const InsideUvProjection& SurfaceClipper::projection() const { return impl_->projection; }
+int SurfaceClipper::inside_region() const { return impl_->inside; }
+
+bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::string* problem) const {
+    auto fail = [&](const std::string& why) {
+        if (problem) *problem = why;
+        return false;
+    };
+    Mesh cell;
+    try {
+        cell = cgal_mesh::to_cgal(cell_in, "the fragment cell");
+    } catch (const std::invalid_argument&) {
+        return fail("its cell mesh is not manifold");
+    }
+    // Dual contouring leaves an occasional zero-area triangle where the cell's two terms meet in a
+    // crease (outside the object); CGAL counts it as a self-intersection. Collapsing it keeps the
+    // mesh closed and manifold.
+    if (PMP::does_self_intersect(cell)) {
+        PMP::remove_degenerate_faces(cell);
+        if (cell.has_garbage()) cell.collect_garbage();
+    }
+    if (const std::string p = corefinement_problem(cell); !p.empty()) return fail("its cell mesh " + p);
+    Mesh input = impl_->mesh;  // corefinement splits the faces of both operands
+    Mesh out;
+    OriginVisitor v;
+    v.input = &input;
+    v.cell = &cell;
+    v.in_map = input.property_map<Face, int>(kOrigin).first;
+    v.cell_map = cell.add_property_map<Face, int>(kOrigin, -1).first;
+    v.out_map = out.add_property_map<Face, int>(kOrigin, -1).first;
+    bool ok = false;
+    try {
+        ok = PMP::corefine_and_compute_intersection(input, cell, out, CGAL::parameters::visitor(v));
+    } catch (const std::exception& e) {
+        return fail(std::string("the corefinement failed: ") + e.what());
+    }
+    if (!ok) return fail("the intersection with its cell is not manifold");
+    if (out.has_garbage()) out.collect_garbage();
+    if (out.number_of_faces() == 0) return fail("its cell does not meet the input surface");
+    SurfaceMesh m = impl_->convert(out, out.property_map<Face, int>(kOrigin).first);
+    const MeshTopologyReport topo = check_topology(m, 0.0);
+    if (!(topo.closed() && topo.manifold() && topo.consistently_oriented()))
+        return fail("the clipped mesh is not a closed manifold (" + topo.describe() + ")");
+    result = std::move(m);
+    return true;
+}
+
+}  // namespace cf
