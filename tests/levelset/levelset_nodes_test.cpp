@@ -76,7 +76,7 @@ TEST(LevelSetNodes, CutSegmentExportChain) {
     EXPECT_TRUE(std::filesystem::exists(dir / "fragments.json"));
     const auto ex = run_node("export.fragments", {{"width", 160LL}, {"height", 120LL}},
                              {{"fragments", seg.outputs.at("fragments")}}, dir);
-    EXPECT_EQ(ex.counts.at("files"), 4);  // 2 meshes, 1 vdb, 1 png
+    EXPECT_EQ(ex.counts.at("files"), 5);  // 2 meshes, their .mtl, 1 vdb, 1 png
     for (const char* f : {"fragment_000.obj", "fragment_001.obj", "fragments.vdb", "fragments_preview.png"})
         EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
     std::ifstream png(dir / "fragments_preview.png", std::ios::binary);

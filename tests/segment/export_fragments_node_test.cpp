@@ -58,7 +58,7 @@ TEST(ExportFragmentsNode, DeformedMeshFilesMatchTheAlgorithm) {
                              {"preview", false}},
                             {{"fragments", value(cut().fragments)}, {"solution", value(*sol)}, {"cracks", value(cut().cracks)}},
                             dir);
-    EXPECT_EQ(r.counts.at("files"), 2);
+    EXPECT_EQ(r.counts.at("files"), 3);  // 2 meshes and their .mtl
     EXPECT_EQ(r.counts.at("compressive_opening_vertices"), 25);
     EXPECT_GT(r.counts.at("vertices_closed"), 2.0 * kFaceVertices);
     DeformationOptions opt;
