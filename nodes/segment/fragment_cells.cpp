@@ -61,6 +61,8 @@ LevelSet FragmentCells::cell(std::size_t i) const {
     return wrap_grid(psi, g_->voxel, g_->half_width);
 }
 
-SurfaceMesh FragmentCells::cell_mesh(std::size_t i) const { return level_set_to_mesh(cell(i), 0.0); }
+SurfaceMesh FragmentCells::cell_mesh(std::size_t i, double adaptivity) const {
+    return level_set_to_mesh(cell(i), adaptivity);
+}
 
 }  // namespace cf

@@ -28,8 +28,9 @@ public:
     FragmentCells(const FragmentCells&) = delete;
     FragmentCells& operator=(const FragmentCells&) = delete;
 
-    // The dual-contoured zero set of psi_i: closed, outward oriented (thread-safe, any order).
-    SurfaceMesh cell_mesh(std::size_t i) const;
+    // The dual-contoured zero set of psi_i at an adaptivity in [0, 1]: closed, outward oriented
+    // (thread-safe, any order).
+    SurfaceMesh cell_mesh(std::size_t i, double adaptivity = 0) const;
     // psi_i as a level set (tests).
     LevelSet cell(std::size_t i) const;
     double margin() const;  // [m]

@@ -28,7 +28,7 @@ SurfaceMesh FragmentMesher::mesh(std::size_t i, std::string* warning) const {
     if (clipper_) {
         SurfaceMesh m;
         std::string problem;
-        if (clipper_->clip(cells_->cell_mesh(i), m, &problem)) return m;
+        if (clipper_->clip(cells_->cell_mesh(i, o_.adaptivity), m, &problem)) return m;
         if (warning) *warning = "fragment " + std::to_string(i) + ": " + problem + "; written as its level-set mesh";
     }
     return level_set_to_mesh(f_.fragments[i].grid, o_.adaptivity);

@@ -21,7 +21,7 @@ enum class FragmentMesherKind { levelset, surface };
 
 struct FragmentMesherOptions {
     FragmentMesherKind kind = FragmentMesherKind::levelset;
-    double adaptivity = 0;         // levelset mesher (and fall-backs), [0, 1]
+    double adaptivity = 0;         // [0, 1]: the level-set meshes, and the cells of the surface mesher (its fracture faces)
     const SurfaceMesh* surface = nullptr;  // the input surface; needed by kind surface
     double margin_voxels = 2;      // how far a cell reaches beyond its fragment [voxels], in [1, 8]
 };

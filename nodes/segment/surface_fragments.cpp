@@ -12,6 +12,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/boost/graph/helpers.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -120,7 +121,23 @@ struct SurfaceClipper::Impl {
             }
             ++t;
         }
-        return m;
+        return grouped_by_region(std::move(m));
+    }
+
+    // Faces ordered by region (stable), so each material is one block in an OBJ and a glTF
+    // primitive reads contiguous faces.
+    static SurfaceMesh grouped_by_region(SurfaceMesh m) {
+        std::vector<std::size_t> order(m.triangles.size());
+        for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return m.region[a] < m.region[b]; });
+        SurfaceMesh out = m;
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            out.triangles[k] = m.triangles[order[k]];
+            out.region[k] = m.region[order[k]];
+            out.corner_uv[k] = m.corner_uv[order[k]];
+            out.corner_normal[k] = m.corner_normal[order[k]];
+        }
+        return out;
     }
 };
 
@@ -158,11 +175,10 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
     }
     // Dual contouring leaves an occasional zero-area triangle where the cell's two terms meet in a
     // crease (outside the object); CGAL counts it as a self-intersection. Collapsing it keeps the
-    // mesh closed and manifold.
-    if (PMP::does_self_intersect(cell)) {
-        PMP::remove_degenerate_faces(cell);
-        if (cell.has_garbage()) cell.collect_garbage();
-    }
+    // mesh closed and manifold (linear time; the self-intersection test after it is the expensive
+    // part of the check, so it runs once).
+    PMP::remove_degenerate_faces(cell);
+    if (cell.has_garbage()) cell.collect_garbage();
     if (const std::string p = corefinement_problem(cell); !p.empty()) return fail("its cell mesh " + p);
     Mesh input = impl_->mesh;  // corefinement splits the faces of both operands
     Mesh out;
