@@ -13,26 +13,19 @@ namespace cf {
 namespace {
 
 // The 0-based index of an OBJ attribute reference ("t" or "n" of "v/t/n"; negative counts back
-// from the latest one), or -1 for an empty reference.
-long long attribute_index(const std::string& file, const FileLocation& at, std::string_view text, std::size_t count,
-                          const char* what) {
-    if (text.empty()) return -1;
+// from the latest one), or -1 for an empty, malformed or dangling reference: such a corner has no
+// attribute, and a mesh with a corner without one carries none (the geometry is read as before;
+// files with stray "v/1/1" references and no vt lines exist in the wild).
+long long attribute_index(std::string_view text, std::size_t count) {
     long long idx = 0;
-    if (!parse_integer(text, idx) || idx == 0)
-        throw MeshFileError(file_error(file, at, std::string(what) + " index " + quote_token(text) + " is not a valid index",
-                                       "write corners as 'v/t/n' with 1-based (or negative relative) indices"));
+    if (text.empty() || !parse_integer(text, idx) || idx == 0) return -1;
     const long long n = static_cast<long long>(count);
     if (idx < 0) idx = n + idx + 1;
-    if (idx < 1 || idx > n)
-        throw MeshFileError(file_error(file, at,
-                                       std::string(what) + " index " + std::string(text) + " out of range (" +
-                                           std::to_string(n) + " defined so far)",
-                                       "fix the index or define the coordinates before the face"));
-    return idx - 1;
+    return idx >= 1 && idx <= n ? idx - 1 : -1;
 }
 
 // Texture and normal references of one face corner "v/t/n", "v//n" or "v/t".
-void read_corner_attributes(MeshSoup& soup, const FileLocation& at, std::string_view corner) {
+void read_corner_attributes(MeshSoup& soup, std::string_view corner) {
     const std::size_t s1 = corner.find('/');
     std::string_view t, n;
     if (s1 != std::string_view::npos) {
@@ -40,8 +33,8 @@ void read_corner_attributes(MeshSoup& soup, const FileLocation& at, std::string_
         t = corner.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
         if (s2 != std::string_view::npos) n = corner.substr(s2 + 1);
     }
-    soup.corner_uv.push_back(attribute_index(soup.file, at, t, soup.uvs.size(), "texture coordinate"));
-    soup.corner_normal.push_back(attribute_index(soup.file, at, n, soup.normals.size(), "normal"));
+    soup.corner_uv.push_back(attribute_index(t, soup.uvs.size()));
+    soup.corner_normal.push_back(attribute_index(n, soup.normals.size()));
 }
 
 }  // namespace
@@ -99,7 +92,7 @@ MeshSoup read_obj_soup(const std::string& file, std::string_view bytes) {
                     idx = nv + idx + 1;
                 }
                 soup.indices.push_back(idx);
-                read_corner_attributes(soup, at, tok[k]);
+                read_corner_attributes(soup, tok[k]);
             }
             face.count = soup.indices.size() - face.first;
             soup.faces.push_back(face);
