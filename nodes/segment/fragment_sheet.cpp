@@ -55,14 +55,16 @@ struct ViewImage {
           key(depth.size(), -1), colour(depth.size(), kBackground) {}
 };
 
-void draw_triangle(ViewImage& img, const std::array<Vec3, 3>& s, long long key, const Vec3& rgb) {
+// `cancel` is polled per pixel row: one triangle may cover most of a large view.
+void draw_triangle(ViewImage& img, const std::array<Vec3, 3>& s, long long key, const Vec3& rgb, const CancelToken& cancel) {
     const double x0 = std::min({s[0].x(), s[1].x(), s[2].x()}), x1 = std::max({s[0].x(), s[1].x(), s[2].x()});
     const double y0 = std::min({s[0].y(), s[1].y(), s[2].y()}), y1 = std::max({s[0].y(), s[1].y(), s[2].y()});
     const int px0 = std::max(0, int(std::ceil(x0 - 0.5))), px1 = std::min(img.w - 1, int(std::floor(x1 - 0.5)));
     const int py0 = std::max(0, int(std::ceil(y0 - 0.5))), py1 = std::min(img.h - 1, int(std::floor(y1 - 0.5)));
     const double area = (s[1].x() - s[0].x()) * (s[2].y() - s[0].y()) - (s[2].x() - s[0].x()) * (s[1].y() - s[0].y());
     if (!(std::abs(area) > 0)) return;
-    for (int py = py0; py <= py1; ++py)
+    for (int py = py0; py <= py1; ++py) {
+        if (py1 > py0 + 16) cancel.poll();
         for (int px = px0; px <= px1; ++px) {
             const double x = px + 0.5, y = py + 0.5;
             double w[3];
@@ -79,13 +81,15 @@ void draw_triangle(ViewImage& img, const std::array<Vec3, 3>& s, long long key, 
                 img.colour[p] = rgb;
             }
         }
+    }
 }
 
 // Darkens a piece's pixels next to another piece or the background (4-neighbourhood).
-void outline(ViewImage& img) {
+void outline(ViewImage& img, const CancelToken& cancel) {
     std::vector<Vec3> out = img.colour;
     auto piece = [&](int x, int y) { return img.key[std::size_t(y) * std::size_t(img.w) + std::size_t(x)] >> 32; };
-    for (int y = 0; y < img.h; ++y)
+    for (int y = 0; y < img.h; ++y) {
+        cancel.poll();
         for (int x = 0; x < img.w; ++x) {
             const std::size_t p = std::size_t(y) * std::size_t(img.w) + std::size_t(x);
             if (img.key[p] < 0) continue;
@@ -94,6 +98,7 @@ void outline(ViewImage& img) {
                               (y > 0 && piece(x, y - 1) != me) || (y + 1 < img.h && piece(x, y + 1) != me);
             if (edge) out[p] = kOutline * img.colour[p];
         }
+    }
     img.colour = std::move(out);
 }
 
@@ -122,10 +127,10 @@ ViewImage render_view(const std::vector<SurfaceMesh>& meshes, const std::vector<
             }
             const Vec3 base = inside >= 0 && m.region_of(t) == inside ? inside_rgb : outer_rgb;
             const Vec3 rgb = (base * (kAmbient + kDiffuse * std::max(0.0, n.dot(light)))).cwiseMin(1.0);
-            draw_triangle(img, s, (static_cast<long long>(i) << 32) | static_cast<long long>(t), rgb);
+            draw_triangle(img, s, (static_cast<long long>(i) << 32) | static_cast<long long>(t), rgb, cancel);
         }
     }
-    outline(img);
+    outline(img, cancel);
     return img;
 }
 
@@ -159,24 +164,29 @@ std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>&
     if (!(lo.allFinite() && hi.allFinite())) throw std::invalid_argument("the fragment meshes have no vertices");
     const Vec3 centre = 0.5 * (lo + hi);
     const double radius = std::max(0.5 * (hi - lo).norm(), 1e-300);
-    const double scale = 0.48 * std::min(o.width, o.height) / radius;
+    const int cols = o.contact_sheet ? 2 : 1, W = o.width, H = o.height, vw = W / cols, vh = H / cols;
+    const double scale = 0.48 * std::min(vw, vh) / radius;
     const std::vector<View> views = sheet_views(o);
     std::vector<ViewImage> images(views.size(), ViewImage(1, 1));
     tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t k) {
-        images[k] = render_view(meshes, shift, centre, scale, views[k], o.width, o.height, cancel);
+        images[k] = render_view(meshes, shift, centre, scale, views[k], vw, vh, cancel);
     });
-    const int cols = o.contact_sheet ? 2 : 1, W = cols * o.width, H = cols * o.height;
+    // An odd width or height leaves a last column or row of background.
     std::vector<unsigned char> rgb(std::size_t(W) * std::size_t(H) * 3);
+    for (std::size_t p = 0; p < std::size_t(W) * std::size_t(H); ++p)
+        for (int ch = 0; ch < 3; ++ch) rgb[3 * p + std::size_t(ch)] = (unsigned char)std::lround(255.0 * kBackground[ch]);
     for (std::size_t k = 0; k < images.size(); ++k) {
-        const int ox = int(k % 2) * o.width, oy = int(k / 2) * o.height;
-        for (int y = 0; y < o.height; ++y)
-            for (int x = 0; x < o.width; ++x) {
-                Vec3 col = images[k].colour[std::size_t(y) * std::size_t(o.width) + std::size_t(x)];
+        const int ox = int(k % 2) * vw, oy = int(k / 2) * vh;
+        for (int y = 0; y < vh; ++y) {
+            cancel.poll();
+            for (int x = 0; x < vw; ++x) {
+                Vec3 col = images[k].colour[std::size_t(y) * std::size_t(vw) + std::size_t(x)];
                 // A 1-pixel grey rule between the views of the sheet.
                 if (o.contact_sheet && ((x == 0 && ox > 0) || (y == 0 && oy > 0))) col = Vec3(0.6, 0.6, 0.62);
                 unsigned char* px = &rgb[(std::size_t(oy + y) * std::size_t(W) + std::size_t(ox + x)) * 3];
                 for (int ch = 0; ch < 3; ++ch) px[ch] = (unsigned char)std::lround(255.0 * std::clamp(col[ch], 0.0, 1.0));
             }
+        }
     }
     if (sheet_width) *sheet_width = W;
     if (sheet_height) *sheet_height = H;

@@ -13,15 +13,15 @@
 namespace cf {
 
 struct SheetOptions {
-    int width = 640, height = 480;  // [pixels] of each view; the sheet is 2 x 2 views
+    int width = 640, height = 480;  // [pixels] of the whole image; the sheet's views are half of each
     double explode = 1.0;           // fragment i moves by explode x (its centroid - the common centroid)
     Vec3 up = Vec3(0, 0, 1);        // the scene's vertical, drawn upwards
     Vec3 view = Vec3(0.5, -1.2, 0.7);  // oblique view: direction from the scene's centre to the camera
     bool contact_sheet = true;      // false: only the oblique view (width x height)
 };
 
-// The sheet's RGB bytes (row 0 at the top), for tests; size: (2 width) x (2 height) x 3, or
-// width x height x 3 without the contact sheet. `centroids` [m] one per mesh. Throws
+// The sheet's RGB bytes (row 0 at the top), for tests: width x height x 3; each of the four views
+// is (width / 2) x (height / 2) pixels (the whole image without the contact sheet). `centroids` [m] one per mesh. Throws
 // std::invalid_argument for no meshes, sizes that differ, a bad size or camera.
 std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>& meshes,
                                                  const std::vector<Vec3>& centroids, const SheetOptions& options,

@@ -98,8 +98,8 @@ void declare_export_fragments_params(graph::NodeType& t) {
     t.param_bool("preview", true, "render an exploded preview PNG (undeformed)");
     t.param_real("explode", 1.0, "", "preview: fragments move by this fraction of their centroid offset").range(0, 5);
     t.param_bool("contact_sheet", true, "preview: four views in one PNG (the oblique 'view', front, side, top)");
-    t.param_int("width", 640, "preview width of each view [pixels]").range(16, 8192);
-    t.param_int("height", 480, "preview height of each view [pixels]").range(16, 8192);
+    t.param_int("width", 640, "preview width [pixels] (the contact sheet's views are half of it)").range(16, 8192);
+    t.param_int("height", 480, "preview height [pixels] (the contact sheet's views are half of it)").range(16, 8192);
     t.param_reals("up", {0, 0, 1}, "", "preview: the scene's vertical, drawn upwards (0 1 0 for most imported meshes)")
         .size(3);
     t.param_reals("view", {0.5, -1.2, 0.7}, "",

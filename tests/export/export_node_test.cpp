@@ -53,7 +53,7 @@ TEST(ExportMeshNode, Errors) {
     auto dir = temp_dir("export-node");
     EXPECT_TRUE(cf::testing::throws<graph::NodeError>(
         [&] { run_node("export.mesh", {{"path", std::string("cube.xyz")}}, {{"mesh", value(unit_cube())}}, dir); },
-        {"name it .obj, .off, .ply, .stl or .vtp, or set format"}));
+        {"name it .obj, .off, .ply, .stl, .vtp or .glb, or set format"}));
     EXPECT_THROW(run_node("export.mesh", {{"path", std::string("c.obj")}, {"format", std::string("fbx")}},
                           {{"mesh", value(unit_cube())}}, dir),
                  graph::NodeError);

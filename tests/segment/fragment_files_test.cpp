@@ -186,8 +186,8 @@ TEST(FragmentPreview, EachFragmentHasItsOwnColourAndFractureFacesAShadeOfIt) {
     std::vector<Vec3> centroids;
     for (const Fragment& f : c.fragments.fragments) centroids.push_back(f.centroid);
     SheetOptions o;
-    o.width = 320;
-    o.height = 240;
+    o.width = 640;
+    o.height = 480;
     int w = 0, h = 0;
     const std::vector<unsigned char> rgb = render_fragment_sheet(c.meshes, centroids, o, &w, &h);
     ASSERT_EQ(w, 640);
