@@ -128,7 +128,7 @@ TEST(ExportFragmentsNode, ValidationNamesTheInputsTheDisplacementOptionsNeed) {
     std::stringstream ss;
     ss << f.rdbuf();
     std::string text = ss.str();
-    const std::string plain = "params: {format: obj, adaptivity: 0.05, explode: 0.3}";
+    const std::string plain = "params: {format: obj, adaptivity: 0.05}";
     const std::size_t at = text.find(plain);
     ASSERT_NE(at, std::string::npos);
     const int line = 1 + int(std::count(text.begin(), text.begin() + long(at), '\n'));
