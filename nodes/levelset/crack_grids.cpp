@@ -102,14 +102,17 @@ struct BlockDistances {
 // `old` is the grid's leaf at this block (null if none): a voxel already holding distance d_old
 // can only change where a new triangle comes closer than d_old, so d_old^2 starts the search and
 // prunes every triangle whose box is farther (behind a growing front, nearly all of them).
+// With `finish`, each voxel's closest triangle is kept too (ties: the first in the block's order,
+// which is fixed) and `finish` turns the unsigned value into the stored one.
 void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tris, const std::uint32_t* first,
                      const std::uint32_t* last, const openvdb::FloatTree::LeafNodeType* old, double r_f, double thick,
-                     double reach) {
+                     double reach, const ClosestTriangleValue* finish) {
     const double reach2 = reach * reach;
     // A triangle is skipped for a voxel when its box is farther than the best distance so
     // far plus a margin far above rounding (so skipping never changes the minimum).
     const double margin = 1e-9 * reach2;
     std::array<double, kLeafSize> start, best;
+    std::array<std::uint32_t, kLeafSize> closest;
     start.fill(reach2);  // only d^2 < reach^2 is in the band
     if (old)
         for (auto it = old->cbeginValueOn(); it; ++it) {
@@ -161,7 +164,10 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
                     if (duv + da * da > best[off] + margin) continue;  // the box is already too far
                     p[axis] = xa;
                     const double d2 = rt.distance2(p);
-                    if (d2 < best[off]) best[off] = d2;
+                    if (d2 < best[off]) {
+                        best[off] = d2;
+                        closest[off] = *it;
+                    }
                 }
             }
         }
@@ -173,6 +179,12 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
         out.value[off] = out.touched[off] ? float(std::sqrt(best[off]) - thick) : 0.0f;
         out.count += out.touched[off];
     }
+    if (finish)
+        for (int off = 0; off < kLeafSize; ++off)
+            if (out.touched[off]) {
+                const int x = off >> 6, y = (off >> 3) & 7, z = off & 7;
+                out.value[off] = (*finish)(closest[off], Vec3(xs[0][x], xs[1][y], xs[2][z]), out.value[off]);
+            }
 }
 
 // Union the thickened distance of the triangles into the grid: every voxel whose value
@@ -337,10 +349,10 @@ std::size_t write_blocks(openvdb::FloatGrid::Accessor& acc, const std::vector<Bl
     return written;
 }
 
-std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
-                                double half_width) {
-    const double thick = crack_half_thickness(r_f);
-    const double reach = half_width * r_f + thick;  // d < reach <=> value inside the band
+}  // namespace
+
+std::size_t rasterise_triangle_band(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
+                                    double thick, double reach, const ClosestTriangleValue* finish) {
     std::vector<RasterTriangle> prepared;
     prepared.reserve(tris.size());
     for (const Triangle3& t : tris) prepared.emplace_back(t, r_f, reach);
@@ -370,11 +382,19 @@ std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Tria
             const std::size_t g = first + b;
             blocks[b].origin = entries[starts[g]].block;
             rasterise_block(blocks[b], prepared, order.data() + starts[g], order.data() + starts[g + 1],
-                            grid.constTree().probeConstLeaf(blocks[b].origin), r_f, thick, reach);
+                            grid.constTree().probeConstLeaf(blocks[b].origin), r_f, thick, reach, finish);
         });
         written += write_blocks(acc, blocks, count, leaves);
     }
     return written;
+}
+
+namespace {
+
+std::size_t rasterise_triangles(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
+                                double half_width) {
+    const double thick = crack_half_thickness(r_f);
+    return rasterise_triangle_band(grid, tris, r_f, thick, half_width * r_f + thick);  // d < reach: in the band
 }
 
 openvdb::FloatGrid::Ptr new_crack_grid(double r_f, double half_width) {

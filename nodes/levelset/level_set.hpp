@@ -8,6 +8,7 @@
 #include "graph/value.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -34,6 +35,21 @@ struct LevelSet {
 // would exceed `max_voxels`.
 LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double voxel_size, double half_width = 3,
                              double max_voxels = 2e8, const CancelToken& cancel = CancelToken::current());
+
+// Independent reference for tests: the same grid by OpenVDB's meshToLevelSet alone (per shell,
+// combined as level_set_from_mesh does), which level_set_from_mesh used before issue 17.
+LevelSet reference_level_set_from_mesh(const SurfaceMesh& mesh, double voxel_size, double half_width = 3);
+
+// Voxel-by-voxel difference of two grids of the same voxel size (tests): voxels active in either
+// grid whose values differ by more than `tolerance` [m] or whose activity or sign differs are listed
+// (index coordinates, up to `max_listed`).
+struct GridDifference {
+    std::size_t active_in_both = 0, active_only_in_a = 0, active_only_in_b = 0;
+    std::size_t sign_differs = 0;  // over every voxel active in either grid
+    double max_abs_difference = 0; // [m], over the voxels active in both
+    std::vector<std::array<int, 3>> differing;
+};
+GridDifference compare_grids(const LevelSet& a, const LevelSet& b, double tolerance = 0, std::size_t max_listed = 0);
 
 // Enclosed volume [m^3] measured on the grid (OpenVDB LevelSetMeasure).
 double level_set_volume(const LevelSet& ls);

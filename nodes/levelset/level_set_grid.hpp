@@ -3,10 +3,14 @@
 // (nodes/levelset/level_set.cpp, crack_grids.cpp, nodes/segment/segmentation.cpp,
 // nodes/segment/preview_render.cpp): each costs ~25 s to compile.
 #include "graph/cancel_token.hpp"
+#include "nodes/levelset/crack_grids.hpp"
 #include "nodes/levelset/level_set.hpp"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/util/NullInterrupter.h>
+
+#include <cstdint>
+#include <functional>
 
 namespace cf {
 
@@ -37,5 +41,16 @@ struct CancelInterrupter : openvdb::util::NullInterrupter {
     bool wasInterrupted(int = -1) override { return token.requested(); }
     CancelToken token;
 };
+
+// Turns a voxel's unsigned band value into the value stored, knowing the voxel's closest triangle
+// (index into the rasterised set) and centre [m]: the object level set's sign.
+using ClosestTriangleValue = std::function<float(std::uint32_t triangle, const Vec3& voxel, float value)>;
+
+// The triangles' band rasterised into `grid` (crack_grids.cpp): every voxel with unsigned distance
+// d < reach [m] to the nearest triangle gets min(old, d - thick) (or `finish` of it), leaf-sized
+// blocks in parallel (oneTBB), the same result for any thread count; polls the current cancel
+// token per block. Returns the number of voxels set or lowered.
+std::size_t rasterise_triangle_band(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
+                                    double thick, double reach, const ClosestTriangleValue* finish = nullptr);
 
 }  // namespace cf
