@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
                       "paths resolved) as YAML on stdout, and stop");
     run_cmd->add_flag("--allow-absolute-paths", run.allow_absolute_paths,
                       "let output parameters name absolute paths outside --out (refused by default)");
+    run_cmd->add_flag("--profile", run.profile,
+                      "print the seconds per node type and the run's critical path at the end (also in report.json)");
 
     std::vector<std::string> validate_files, validate_overrides;
     auto* validate_cmd = app.add_subcommand("validate", "check pipelines without running them; exit 2 if any is invalid");

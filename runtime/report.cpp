@@ -1,6 +1,7 @@
 #include "runtime/report.hpp"
 
 #include "graph/json_writer.hpp"
+#include "runtime/run_profile.hpp"
 
 #include <Eigen/Core>
 #include <openvdb/version.h>
@@ -114,6 +115,19 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
         }
         w.end_object();
     }
+    // What bounded the wall time (crackflow run --profile prints it with the split per type).
+    const RunProfile profile = run_profile(plan, result);
+    w.key("critical_path_seconds").value(profile.critical_seconds);
+    w.key("critical_path").begin_array();
+    for (const CriticalNode& c : profile.critical_path) {
+        w.begin_object();
+        w.key("node").value(c.node);
+        w.key("type").value(c.type);
+        w.key("runs").value(static_cast<long long>(c.runs));
+        w.key("seconds").value(c.seconds);
+        w.end_object();
+    }
+    w.end_array();
     if (scene) {
         w.key("scene").begin_object();
         for (const char* k : {"frames", "pieces", "fracture_runs", "breaks", "failed_runs", "largest_bem_triangles",

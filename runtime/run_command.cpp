@@ -1,4 +1,5 @@
 #include "runtime/run_command.hpp"
+#include "runtime/run_profile.hpp"
 
 #include "graph/atomic_write.hpp"
 #include "graph/executor.hpp"
@@ -137,6 +138,7 @@ int run_command(const RunRequest& req) {
         return 1;
     }
     std::fputs(loop_step_tables(plan, result).c_str(), stderr);
+    if (req.profile) std::fputs(profile_text(run_profile(plan, result)).c_str(), stderr);
     std::fprintf(stderr, "crackflow run: finished in %.2f s; outputs in %s (report: %s)\n", result.wall_seconds,
                  out.string().c_str(), report.string().c_str());
     return 0;

@@ -13,6 +13,7 @@ struct RunRequest {
     bool fast = false;
     bool allow_absolute_paths = false;  // output parameters may name files outside --out
     bool print_pipeline = false;        // print the pipeline as it would run (graph::to_yaml) and stop
+    bool profile = false;               // print the split per node type and the critical path at the end
 };
 
 // Exit codes: 0 ok, 1 a node failed, 2 invalid pipeline or arguments, 130 cancelled (Ctrl-C).

@@ -222,8 +222,10 @@ bool has_degenerate_triangle(const SurfaceMesh& mesh) {
 
 }  // namespace
 
-LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels,
-                             const CancelToken& cancel) {
+namespace {
+
+LevelSet object_level_set(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels, bool exact,
+                          const CancelToken& cancel) {
     ensure_openvdb_initialized();
     if (!(r_f > 0) || !std::isfinite(r_f))
         throw std::invalid_argument("voxel size r_f must be a positive number of metres, got " + graph::format_number(r_f));
@@ -278,7 +280,7 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_wi
         throw std::invalid_argument(s.str());
     }
     openvdb::FloatGrid::Ptr g;
-    if (shells.size() == 1 && !has_degenerate_triangle(mesh)) {
+    if (exact && shells.size() == 1 && !has_degenerate_triangle(mesh)) {
         const CancelScope scope(cancel);  // the rasteriser polls the current token per block
         g = band_level_set(mesh, r_f, half_width);
         cancel.poll();
@@ -303,18 +305,16 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_wi
     return wrap_grid(g, r_f, half_width);
 }
 
-LevelSet reference_level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width) {
-    ensure_openvdb_initialized();
-    std::vector<Shell> shells = shells_of(mesh);
-    std::stable_sort(shells.begin(), shells.end(), [](const Shell& a, const Shell& b) { return a.depth < b.depth; });
-    openvdb::FloatGrid::Ptr g;
-    for (const Shell& sh : shells) {
-        openvdb::FloatGrid::Ptr part = shell_grid(mesh, sh.triangles, r_f, half_width, CancelToken());
-        if (!g) g = part;
-        else if (sh.depth % 2 == 1) openvdb::tools::csgDifference(*g, *part);
-        else openvdb::tools::csgUnion(*g, *part);
-    }
-    return wrap_grid(g, r_f, half_width);
+}  // namespace
+
+LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels,
+                             const CancelToken& cancel) {
+    return object_level_set(mesh, r_f, half_width, max_voxels, false, cancel);
+}
+
+LevelSet exact_level_set_from_mesh(const SurfaceMesh& mesh, double r_f, double half_width, double max_voxels,
+                                   const CancelToken& cancel) {
+    return object_level_set(mesh, r_f, half_width, max_voxels, true, cancel);
 }
 
 GridDifference compare_grids(const LevelSet& a, const LevelSet& b, double tolerance, std::size_t max_listed) {

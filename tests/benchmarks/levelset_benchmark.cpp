@@ -99,6 +99,19 @@ void BM_ObjectLevelSetBox(benchmark::State& state) {
 }
 BENCHMARK(BM_ObjectLevelSetBox)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The same box by the exact band rasteriser (levelset.from_mesh band: exact).
+void BM_ExactObjectLevelSetBox(benchmark::State& state) {
+    BoxSpec spec;
+    spec.size = Vec3(0.1, 0.1, 0.1);
+    spec.subdivisions = 5;
+    const SurfaceMesh box = make_box(spec);
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
+    std::size_t voxels = 0;
+    for (auto _ : state) voxels = active_voxel_count(exact_level_set_from_mesh(box, 2.9499e-4));
+    state.counters["active_voxels"] = double(voxels);
+}
+BENCHMARK(BM_ExactObjectLevelSetBox)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // A 1 m cube at r_f = 2 mm (~1e7 active voxels) cut by one oblique plane.
 void BM_SegmentTenMillionVoxels(benchmark::State& state) {
     BoxSpec spec;

@@ -1,5 +1,5 @@
-// The object level set's own narrow-band rasteriser (issue 17) against OpenVDB's meshToLevelSet,
-// which level_set_from_mesh called before, on procedural shapes (axis-aligned box, notched bar,
+// The object level set's exact narrow-band rasteriser (issue 17, exact_level_set_from_mesh) against
+// OpenVDB's meshToLevelSet (level_set_from_mesh), on procedural shapes (axis-aligned box, notched bar,
 // torus, sphere, cylinder): the same active voxels, signs and values to float rounding almost
 // everywhere; and wherever the two differ, the new value is the exact signed distance (brute force
 // over all triangles, sign by the winding number). meshToLevelSet's band expansion propagates
@@ -38,8 +38,8 @@ double exact_signed_distance(const SurfaceMesh& m, const Vec3& p) {
 
 void expect_same_as_openvdb_or_exact(const SurfaceMesh& mesh, double r_f, const char* what, bool smooth = true) {
     SCOPED_TRACE(what);
-    const LevelSet fresh = level_set_from_mesh(mesh, r_f);
-    const LevelSet ref = reference_level_set_from_mesh(mesh, r_f);
+    const LevelSet fresh = exact_level_set_from_mesh(mesh, r_f);
+    const LevelSet ref = level_set_from_mesh(mesh, r_f);
     const double float_rounding = 1e-5 * r_f;  // values are at most 4 r_f: ~1e-6 r_f apart in float
     const GridDifference d = compare_grids(fresh, ref, float_rounding, 100000);
     EXPECT_GT(d.active_in_both, 10000u);
@@ -107,11 +107,11 @@ TEST(ObjectBand, SameGridForOneAndTwoThreads) {
     LevelSet one, two;
     {
         tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-        one = level_set_from_mesh(m, 7e-4);
+        one = exact_level_set_from_mesh(m, 7e-4);
     }
     {
         tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-        two = level_set_from_mesh(m, 7e-4);
+        two = exact_level_set_from_mesh(m, 7e-4);
     }
     const GridDifference d = compare_grids(one, two);
     EXPECT_EQ(d.active_only_in_a + d.active_only_in_b + d.sign_differs, 0u);
