@@ -104,116 +104,6 @@ openvdb::FloatGrid::Ptr shell_grid(const SurfaceMesh& mesh, const std::vector<Tr
     return g;
 }
 
-// Angle-weighted pseudo-normals of a closed, manifold, outward oriented shell (J. A. Baerentzen and
-// H. Aanaes, "Signed distance computation using the angle weighted pseudonormal", IEEE TVCG 2005):
-// the sign of (p - q).N at the closest point q, with N the pseudo-normal of the face, edge or
-// vertex holding q, is the side of p for any p off the surface.
-class PseudoNormals {
-public:
-    PseudoNormals(const std::vector<Vec3>& points, const std::vector<Tri>& tris)
-        : tris_(tris), face_(tris.size()), edge_(tris.size()), vertex_(points.size(), Vec3::Zero()) {
-        std::map<std::pair<int, int>, Vec3> edges;
-        for (std::size_t t = 0; t < tris.size(); ++t) {
-            const Tri& f = tris[t];
-            face_[t] = (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).normalized();
-            for (int k = 0; k < 3; ++k) {
-                const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
-                const Vec3 u = (points[b] - points[a]).normalized(), w = (points[c] - points[a]).normalized();
-                vertex_[a] += std::acos(std::clamp(u.dot(w), -1.0, 1.0)) * face_[t];
-                auto [it, fresh] = edges.emplace(std::minmax(a, b), face_[t]);
-                if (!fresh) it->second += face_[t];
-            }
-        }
-        for (std::size_t t = 0; t < tris.size(); ++t)
-            for (int k = 0; k < 3; ++k) edge_[t][k] = edges.at(std::minmax(tris[t][k], tris[t][(k + 1) % 3]));
-    }
-    // The signed value of the voxel centre p [index space] whose closest triangle is t, for corners
-    // `corner` [index space]: +-|p - q| (negative inside), from the one closest-point query.
-    float signed_distance(std::uint32_t t, const Vec3& p, const std::vector<Vec3>& corner) const {
-        const Tri& f = tris_[t];
-        const TriangleClosestPoint q = closest_point_on_nondegenerate_triangle(p, corner[f[0]], corner[f[1]], corner[f[2]]);
-        const Vec3* n = &face_[t];
-        switch (q.feature) {
-            case TriangleFeature::vertex_a: n = &vertex_[f[0]]; break;
-            case TriangleFeature::vertex_b: n = &vertex_[f[1]]; break;
-            case TriangleFeature::vertex_c: n = &vertex_[f[2]]; break;
-            case TriangleFeature::edge_ab: n = &edge_[t][0]; break;
-            case TriangleFeature::edge_bc: n = &edge_[t][1]; break;
-            case TriangleFeature::edge_ca: n = &edge_[t][2]; break;
-            case TriangleFeature::face: break;
-        }
-        const float d = std::sqrt(float(q.distance2));
-        return (p - q.point).dot(*n) < 0 ? -d : d;
-    }
-
-private:
-    const std::vector<Tri>& tris_;
-    std::vector<Vec3> face_;
-    std::vector<std::array<Vec3, 3>> edge_;  // per triangle: edges ab, bc, ca
-    std::vector<Vec3> vertex_;
-};
-
-// The last steps of OpenVDB's meshToVolume on a signed band (MeshToVolume.h, OpenVDB 10), so the
-// values are those meshToLevelSet gives: sign into the tiles, one renormalisation step (which
-// keeps exact distances), the band trimmed to +-half_width voxels and pruned.
-void finish_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width) {
-    namespace m2v = openvdb::tools::mesh_to_volume_internal;
-    using LeafT = openvdb::FloatTree::LeafNodeType;
-    openvdb::FloatTree& tree = grid.tree();
-    const float width = half_width * voxel_size;
-    tree.root().setBackground(width, /*updateChildNodes=*/false);
-    openvdb::tools::signedFloodFillWithValues(tree, width, -width);
-    std::vector<LeafT*> nodes;
-    nodes.reserve(tree.leafCount());
-    tree.getNodes(nodes);
-    const tbb::blocked_range<std::size_t> range(0, nodes.size());
-    std::unique_ptr<float[]> buffer{new float[LeafT::SIZE * nodes.size()]};
-    const float offset = float(0.8 * voxel_size);
-    tbb::parallel_for(range, m2v::OffsetValues<openvdb::FloatTree>(nodes, -offset));
-    tbb::parallel_for(range, m2v::Renormalize<openvdb::FloatTree>(tree, nodes, buffer.get(), voxel_size));
-    tbb::parallel_for(range, m2v::MinCombine<openvdb::FloatTree>(nodes, buffer.get()));
-    tbb::parallel_for(range, m2v::OffsetValues<openvdb::FloatTree>(nodes, offset - m2v::Tolerance<float>::epsilon()));
-    tbb::parallel_for(range, m2v::InactivateValues<openvdb::FloatTree>(nodes, width, width));
-    openvdb::tools::pruneLevelSet(tree, width, -width);
-}
-
-// Signed narrow band of one closed shell without degenerate triangles: exact distances to the
-// nearest triangle, rasterised per leaf-sized block near the surface in parallel (the crack
-// recorder's rasteriser, polled per block), signed by pseudo-normals; the interior stays tiles.
-// Reaches one voxel beyond the band so the renormalisation sees exact neighbours, as
-// meshToLevelSet's band expansion gives it. Vertices are rounded to float as meshToLevelSet's input.
-openvdb::FloatGrid::Ptr band_level_set(const SurfaceMesh& mesh, double r_f, double half_width) {
-    std::vector<Vec3> points;
-    points.reserve(mesh.vertices.size());
-    for (const Vec3& v : mesh.vertices) points.emplace_back(float(v.x()), float(v.y()), float(v.z()));
-    std::vector<Triangle3> tris;
-    tris.reserve(mesh.triangles.size());
-    for (const Tri& t : mesh.triangles) tris.push_back({points[t[0]], points[t[1]], points[t[2]]});
-    const PseudoNormals normals(points, mesh.triangles);
-    const float voxel = float(r_f);  // meshToVolume works with the transform's float voxel size
-    const double reach = (half_width + 1) * r_f;
-    auto g = openvdb::FloatGrid::create(float(reach));
-    const auto xform = openvdb::math::Transform::createLinearTransform(r_f);
-    g->setTransform(xform->copy());
-    g->setGridClass(openvdb::GRID_LEVEL_SET);
-    // meshToVolume's value: the index-space distance to the closest triangle, from float
-    // index-space corners (as its TransformPoints gives them), times the float voxel size.
-    std::vector<Vec3> corners;
-    corners.reserve(points.size());
-    for (const Vec3& p : points) {
-        const openvdb::Vec3s q(xform->worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z())));
-        corners.emplace_back(q.x(), q.y(), q.z());
-    }
-    const double inv = 1 / r_f;
-    const ClosestTriangleValue signed_value = [&](std::uint32_t t, const Vec3& p, float) {
-        const Vec3 centre = (p * inv).array().round();  // p is a voxel centre, an integer in index space
-        return voxel * normals.signed_distance(t, centre, corners);
-    };
-    rasterise_triangle_band(*g, tris, r_f, 0.0, reach, &signed_value);
-    finish_like_mesh_to_volume(*g, voxel, float(half_width));
-    return g;
-}
-
 bool has_degenerate_triangle(const SurfaceMesh& mesh) {
     for (const Tri& t : mesh.triangles)
         if (is_degenerate_triangle(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) return true;
@@ -281,8 +171,7 @@ LevelSet object_level_set(const SurfaceMesh& mesh, double r_f, double half_width
     }
     openvdb::FloatGrid::Ptr g;
     if (exact && shells.size() == 1 && !has_degenerate_triangle(mesh)) {
-        const CancelScope scope(cancel);  // the rasteriser polls the current token per block
-        g = band_level_set(mesh, r_f, half_width);
+        g = exact_band_grid(mesh, r_f, half_width, cancel);
         cancel.poll();
     } else if (shells.size() == 1) {
         g = shell_grid(mesh, mesh.triangles, r_f, half_width, cancel);

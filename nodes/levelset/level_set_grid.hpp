@@ -1,6 +1,6 @@
 #pragma once
 // The OpenVDB side of cf::LevelSet. Include ONLY from the OpenVDB translation units
-// (nodes/levelset/level_set.cpp, crack_grids.cpp, nodes/segment/segmentation.cpp,
+// (nodes/levelset/level_set.cpp, object_band.cpp, crack_grids.cpp, nodes/segment/segmentation.cpp,
 // nodes/segment/preview_render.cpp): each costs ~25 s to compile.
 #include "graph/cancel_token.hpp"
 #include "nodes/levelset/crack_grids.hpp"
@@ -52,5 +52,11 @@ using ClosestTriangleValue = std::function<float(std::uint32_t triangle, const V
 // token per block. Returns the number of voxels set or lowered.
 std::size_t rasterise_triangle_band(openvdb::FloatGrid& grid, const std::vector<Triangle3>& tris, double r_f,
                                     double thick, double reach, const ClosestTriangleValue* finish = nullptr);
+
+// The signed narrow band of one closed, manifold, outward oriented shell without degenerate
+// triangles by exact distances (object_band.cpp; exact_level_set_from_mesh checks the mesh):
+// the values meshToLevelSet gives where its band expansion is exact, the exact distance elsewhere.
+// Polls `cancel` per few blocks.
+openvdb::FloatGrid::Ptr exact_band_grid(const SurfaceMesh& mesh, double r_f, double half_width, const CancelToken& cancel);
 
 }  // namespace cf

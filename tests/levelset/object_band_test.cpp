@@ -47,6 +47,13 @@ void expect_same_as_openvdb_or_exact(const SurfaceMesh& mesh, double r_f, const 
     // box 0.01 %, cylinder 0.01 %, notched bar 0.36 %, torus 0.71 %, sphere 0.84 %).
     EXPECT_LT(d.differing.size(), d.active_in_both / 100) << d.differing.size() << " of " << d.active_in_both;
     EXPECT_LT(d.active_only_in_a + d.active_only_in_b, d.active_in_both / 1000);
+    // Inside or outside: the same for every voxel active in either grid (pseudo-normal sign against
+    // meshToLevelSet's scan conversion and flood fill), and the interior tiles are inside.
+    EXPECT_EQ(d.sign_differs, 0u);
+    const Box3 box = bounding_box(mesh);
+    const Vec3 centre = 0.5 * (box.min + box.max);
+    EXPECT_EQ(sample(fresh, centre) < 0, exact_signed_distance(mesh, centre) < 0) << "centre " << centre.transpose();
+    EXPECT_NEAR(sample(fresh, box.max + Vec3::Constant(10 * r_f)), 3 * r_f, 1e-6 * r_f) << "far outside: the background";
     // Where they differ, the new grid holds the exact distance, changed only by meshToVolume's
     // last steps, which both grids get (renormalisation moves phi at kinks of the distance field:
     // by up to 0.8 voxel beside the notched bar's V-notch apex; a final shift of -1e-7 m),
