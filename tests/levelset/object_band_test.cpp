@@ -47,9 +47,29 @@ void expect_same_as_openvdb_or_exact(const SurfaceMesh& mesh, double r_f, const 
     // box 0.01 %, cylinder 0.01 %, notched bar 0.36 %, torus 0.71 %, sphere 0.84 %).
     EXPECT_LT(d.differing.size(), d.active_in_both / 100) << d.differing.size() << " of " << d.active_in_both;
     EXPECT_LT(d.active_only_in_a + d.active_only_in_b, d.active_in_both / 1000);
-    // Inside or outside: the same for every voxel active in either grid (pseudo-normal sign against
-    // meshToLevelSet's scan conversion and flood fill), and the interior tiles are inside.
-    EXPECT_EQ(d.sign_differs, 0u);
+    // Inside or outside (pseudo-normal sign against meshToLevelSet's scan conversion and flood
+    // fill): wherever the two grids disagree, the new sign is the exact one (winding number), but
+    // for voxel centres within float rounding of the surface. Both share meshToVolume's last steps,
+    // whose -0.8 voxel offset and renormalisation close a gap narrower than about 1.6 voxels: in
+    // the notched bar's V-notch, next to its apex, both call voxels up to 0.6 voxel outside
+    // "inside"; nowhere else.
+    std::size_t new_wrong = 0, old_wrong = 0, both_wrong = 0;
+    for (const auto& c : d.differing) {
+        const Vec3 p = r_f * Vec3(c[0], c[1], c[2]);
+        const double exact = exact_signed_distance(mesh, p);
+        if (std::abs(exact) < float_rounding) continue;
+        const bool fresh_wrong = (sample(fresh, p) < 0) != (exact < 0), ref_wrong = (sample(ref, p) < 0) != (exact < 0);
+        new_wrong += fresh_wrong && !ref_wrong;
+        old_wrong += ref_wrong && !fresh_wrong;
+        if (fresh_wrong && ref_wrong) {
+            ++both_wrong;
+            EXPECT_FALSE(smooth) << "both grids have the wrong sign at " << p.transpose();
+            EXPECT_LT(exact, r_f) << "a closed gap lies within a voxel of the surface, " << p.transpose();
+        }
+    }
+    EXPECT_EQ(new_wrong, 0u) << d.sign_differs << " voxels of different sign";
+    std::printf("%s: %zu voxels of different sign (meshToLevelSet's wrong at %zu), %zu of the same wrong sign\n", what,
+                d.sign_differs, old_wrong, both_wrong);
     const Box3 box = bounding_box(mesh);
     const Vec3 centre = 0.5 * (box.min + box.max);
     EXPECT_EQ(sample(fresh, centre) < 0, exact_signed_distance(mesh, centre) < 0) << "centre " << centre.transpose();
