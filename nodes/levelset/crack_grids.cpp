@@ -31,9 +31,24 @@ const char* to_string(MarkerHit h) {
 }
 
 namespace {
-
 constexpr int kLeafDim = int(openvdb::FloatTree::LeafNodeType::DIM);  // 8
 constexpr int kLeafSize = int(openvdb::FloatTree::LeafNodeType::SIZE);
+
+// Three-way max and min without std::initializer_list (which the hot loops below did not inline).
+inline double max3(double a, double b, double c) { return std::max(std::max(a, b), c); }
+inline int max3(int a, int b, int c) { return std::max(std::max(a, b), c); }
+inline int min3(int a, int b, int c) { return std::min(std::min(a, b), c); }
+// floor and ceil to int without the libm call std::floor makes on plain x86-64 (per column, the
+// largest cost of the rasteriser after the voxel visits). Exact for |x| < 2^31, far above any
+// voxel index here (callers clamp to a block first).
+inline int floor_int(double x) {
+    const int i = int(x);  // truncation towards zero
+    return i - (x < double(i));
+}
+inline int ceil_int(double x) {
+    const int i = int(x);
+    return i + (x > double(i));
+}
 
 // One triangle prepared for rasterisation: the voxels it may reach are the box [lo_i, hi_i]
 // (its bounding box grown by the reach), and, for a planar triangle, in each column along the
@@ -49,6 +64,13 @@ struct RasterTriangle {
     double half = 0;  // slab half-height along `axis` [m]
     // The plane over a column: axis coordinate c = c0 + cu x_u + cv x_v [m].
     double c0 = 0, cu = 0, cv = 0;
+    // In-plane frame of a planar triangle: e along its first edge, m = n x e, and the triangle's
+    // extent [e_lo, e_hi] x [m_lo, m_hi] in it (relative to t[0]). With h = n.(p - t0), the squared
+    // distance to the triangle is h^2 + (in-plane distance)^2 >= h^2 + gap_e^2 + gap_m^2: a lower
+    // bound much tighter than the bounding box for a tilted sliver of a swept strip.
+    bool framed = false;
+    Vec3 e = Vec3::Zero(), m = Vec3::Zero();
+    double e_lo = 0, e_hi = 0, m_lo = 0, m_hi = 0;
 
     RasterTriangle(const Triangle3& tri, double r_f, double reach)
         : t(tri), degenerate(is_degenerate_triangle(tri[0], tri[1], tri[2])) {
@@ -75,6 +97,19 @@ struct RasterTriangle {
             cu = -n[u] / n[axis];
             cv = -n[v] / n[axis];
         }
+        if (planar && !degenerate) {
+            const Vec3 ab = t[1] - t[0];
+            if (ab.norm() > 0) {
+                framed = true;
+                e = ab.normalized();
+                m = n.cross(e).normalized();
+                const Vec3 ac = t[2] - t[0];
+                e_lo = std::min({0.0, e.dot(ab), e.dot(ac)});
+                e_hi = std::max({0.0, e.dot(ab), e.dot(ac)});
+                m_lo = std::min({0.0, m.dot(ab), m.dot(ac)});
+                m_hi = std::max({0.0, m.dot(ab), m.dot(ac)});
+            }
+        }
     }
     // Squared distance from p to the triangle [m^2].
     // A degenerate triangle (a deactivated marker next to another: p0 == p1) is its edges; the
@@ -90,12 +125,12 @@ struct RasterTriangle {
 // triangles whose band reaches each voxel (min is order-independent, so blocks can run in any
 // order and on any thread).
 struct BlockDistances {
-    // User-provided, so std::vector<BlockDistances>(n) does not zero ~2.6 kB per block (every
-    // field is written by rasterise_block before it is read).
+    // User-provided, so std::vector<BlockDistances>(n) does not zero ~3 kB per block (only the
+    // first `count` entries of `list`, and `value` at those offsets, are ever read).
     BlockDistances() {}
     openvdb::Coord origin;
-    std::array<float, kLeafSize> value;
-    std::array<bool, kLeafSize> touched;
+    std::array<float, kLeafSize> value;  // the new value at each offset in `list`
+    std::array<std::uint16_t, kLeafSize> list;  // the voxels set or lowered (offsets in the leaf)
     std::size_t count = 0;
 };
 
@@ -111,15 +146,21 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
     // A triangle is skipped for a voxel when its box is farther than the best distance so
     // far plus a margin far above rounding (so skipping never changes the minimum).
     const double margin = 1e-9 * reach2;
-    std::array<double, kLeafSize> start, best;
+    // best[off]: the smallest squared distance so far, read lazily from the old leaf on the first
+    // visit (kUnvisited before): most voxels of a block are never reached by any triangle, and
+    // initialising all 512 of every block of every sub-step cost as much as the visits.
+    constexpr double kUnvisited = -1;
+    std::array<double, kLeafSize> best;
     std::array<std::uint32_t, kLeafSize> closest;
-    start.fill(reach2);  // only d^2 < reach^2 is in the band
-    if (old)
-        for (auto it = old->cbeginValueOn(); it; ++it) {
-            const double d = double(*it) + thick;
-            start[it.pos()] = d <= 0 ? 0.0 : std::min(reach2, d * d);
-        }
-    best = start;
+    best.fill(kUnvisited);
+    const float* old_data = old ? old->buffer().data() : nullptr;
+    auto start_of = [&](int off) {  // only d^2 < reach^2 is in the band
+        if (!old_data || !old->isValueOn(openvdb::Index(off))) return reach2;
+        const double d = double(old_data[off]) + thick;
+        return d <= 0 ? 0.0 : std::min(reach2, d * d);
+    };
+    std::array<std::uint64_t, kLeafSize / 64> lowered{};  // bit per voxel: in out.list already
+    out.count = 0;
     const openvdb::Coord o = out.origin;
     const double inv = 1 / r_f;
     // Voxel-centre coordinates of this block along each axis [m], and the offset strides.
@@ -135,56 +176,80 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
         const double lo_a = rt.box_lo[axis], hi_a = rt.box_hi[axis];
         for (int i = i0; i <= i1; ++i) {
             const double xu = xs[u][i - o[u]];
-            const double du = std::max({rt.box_lo[u] - xu, xu - rt.box_hi[u], 0.0});
+            const double du = max3(rt.box_lo[u] - xu, xu - rt.box_hi[u], 0.0);
             for (int j = j0; j <= j1; ++j) {
                 const double xv = xs[v][j - o[v]];
-                const double dv = std::max({rt.box_lo[v] - xv, xv - rt.box_hi[v], 0.0});
+                const double dv = max3(rt.box_lo[v] - xv, xv - rt.box_hi[v], 0.0);
                 const double duv = du * du + dv * dv;  // box distance across the column
                 if (duv > reach2 + margin) continue;
+                // Voxel centres k r_f of the column within [lo, hi] [m], widened by kSlack voxels far
+                // above rounding (a voxel outside is farther than the reach, so the visit below would
+                // skip it anyway: the ranges only save visits, they never decide a value).
+                constexpr double kSlack = 1e-6;
                 int k0 = rt.lo_i[axis], k1 = rt.hi_i[axis];
                 if (rt.slab) {
                     // Points with |n.(x - a)| <= reach: an interval along `axis` in this column.
                     const double c = rt.c0 + rt.cu * xu + rt.cv * xv;  // axis coordinate on the plane
-                    k0 = std::max(k0, int(std::floor((c - rt.half) * inv)));
-                    k1 = std::min(k1, int(std::ceil((c + rt.half) * inv)));
+                    k0 = std::max(k0, ceil_int((c - rt.half) * inv - kSlack));
+                    k1 = std::min(k1, floor_int((c + rt.half) * inv + kSlack));
                 }
-                // And within the reach of the box along the column (one voxel of slack).
+                // And within the reach of the box along the column.
                 const double w = std::sqrt(reach2 + margin - duv);
-                k0 = std::max({k0, o[axis], int(std::floor((lo_a - w) * inv)) - 1});
-                k1 = std::min({k1, o[axis] + kLeafDim - 1, int(std::ceil((hi_a + w) * inv)) + 1});
+                k0 = max3(k0, o[axis], ceil_int((lo_a - w) * inv - kSlack));
+                k1 = min3(k1, o[axis] + kLeafDim - 1, floor_int((hi_a + w) * inv + kSlack));
                 if (k0 > k1) continue;
                 const int base = (i - o[u]) * stride[u] + (j - o[v]) * stride[v] - o[axis] * stride[axis];
                 Vec3 p;
                 p[u] = xu;
                 p[v] = xv;
+                // Frame coordinates of the column's foot (x_axis = t0_axis); along the column they
+                // change by the axis component of n, e, m.
+                double h0 = 0, e0 = 0, m0 = 0;
+                if (rt.framed) {
+                    const double qu = xu - rt.t[0][u], qv = xv - rt.t[0][v];
+                    h0 = rt.n[u] * qu + rt.n[v] * qv;
+                    e0 = rt.e[u] * qu + rt.e[v] * qv;
+                    m0 = rt.m[u] * qu + rt.m[v] * qv;
+                }
                 for (int k = k0; k <= k1; ++k) {
                     const int off = base + k * stride[axis];
                     const double xa = xs[axis][k - o[axis]];
-                    const double da = std::max({lo_a - xa, xa - hi_a, 0.0});
-                    if (duv + da * da > best[off] + margin) continue;  // the box is already too far
+                    const double da = max3(lo_a - xa, xa - hi_a, 0.0);
+                    double b = best[off];
+                    if (b < 0) b = best[off] = start_of(off);
+                    if (duv + da * da > b + margin) continue;  // the box is already too far
+                    if (rt.framed) {
+                        const double qa = xa - rt.t[0][axis];
+                        const double h = h0 + rt.n[axis] * qa, pe = e0 + rt.e[axis] * qa, pm = m0 + rt.m[axis] * qa;
+                        const double ge = max3(rt.e_lo - pe, pe - rt.e_hi, 0.0);
+                        const double gm = max3(rt.m_lo - pm, pm - rt.m_hi, 0.0);
+                        if (h * h + ge * ge + gm * gm > b + margin) continue;  // the in-plane box too
+                    }
                     p[axis] = xa;
                     const double d2 = rt.distance2(p);
-                    if (d2 < best[off]) {
+                    if (d2 < b) {  // in the band and closer than before
                         best[off] = d2;
                         closest[off] = *it;
+                        std::uint64_t& word = lowered[off >> 6];
+                        const std::uint64_t bit = std::uint64_t(1) << (off & 63);
+                        if (!(word & bit)) {
+                            word |= bit;
+                            out.list[out.count++] = std::uint16_t(off);
+                        }
                     }
                 }
             }
         }
     }
-    out.count = 0;
-    for (int off = 0; off < kLeafSize; ++off) {
-        out.touched[off] = best[off] < start[off];  // in the band and closer than before
+    for (std::size_t q = 0; q < out.count; ++q) {
+        const int off = out.list[q];
         // min_t float(sqrt(d2_t) - thick) == float(sqrt(min_t d2_t) - thick): all steps are monotone.
-        out.value[off] = out.touched[off] ? float(std::sqrt(best[off]) - thick) : 0.0f;
-        out.count += out.touched[off];
+        out.value[off] = float(std::sqrt(best[off]) - thick);
+        if (finish) {
+            const int x = off >> 6, y = (off >> 3) & 7, z = off & 7;
+            out.value[off] = (*finish)(closest[off], Vec3(xs[0][x], xs[1][y], xs[2][z]), out.value[off]);
+        }
     }
-    if (finish)
-        for (int off = 0; off < kLeafSize; ++off)
-            if (out.touched[off]) {
-                const int x = off >> 6, y = (off >> 3) & 7, z = off & 7;
-                out.value[off] = (*finish)(closest[off], Vec3(xs[0][x], xs[1][y], xs[2][z]), out.value[off]);
-            }
 }
 
 // Union the thickened distance of the triangles into the grid: every voxel whose value
@@ -329,8 +394,7 @@ std::size_t write_blocks(openvdb::FloatGrid::Accessor& acc, const std::vector<Bl
             const float tile = acc.getValue(bd.origin);
             const bool active = acc.isValueOn(bd.origin);
             bool change = false;
-            for (int off = 0; off < kLeafSize && !change; ++off)
-                change = bd.touched[off] && (!active || bd.value[off] < tile);
+            for (std::size_t q = 0; q < bd.count && !change; ++q) change = !active || bd.value[bd.list[q]] < tile;
             if (change) leaf = acc.touchLeaf(bd.origin);
         }
         leaves[b] = leaf;
@@ -339,8 +403,8 @@ std::size_t write_blocks(openvdb::FloatGrid::Accessor& acc, const std::vector<Bl
         LeafT* leaf = leaves[b];
         if (!leaf) return;
         const BlockDistances& bd = blocks[b];
-        for (int off = 0; off < kLeafSize; ++off) {
-            if (!bd.touched[off]) continue;
+        for (std::size_t q = 0; q < bd.count; ++q) {
+            const int off = bd.list[q];
             const float old = leaf->getValue(openvdb::Index(off));
             if (bd.value[off] < old || !leaf->isValueOn(openvdb::Index(off)))
                 leaf->setValueOn(openvdb::Index(off), std::min(bd.value[off], old));
