@@ -153,10 +153,9 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
     std::array<double, kLeafSize> best;
     std::array<std::uint32_t, kLeafSize> closest;
     best.fill(kUnvisited);
-    const float* old_data = old ? old->buffer().data() : nullptr;
     auto start_of = [&](int off) {  // only d^2 < reach^2 is in the band
-        if (!old_data || !old->isValueOn(openvdb::Index(off))) return reach2;
-        const double d = double(old_data[off]) + thick;
+        if (!old || !old->isValueOn(openvdb::Index(off))) return reach2;
+        const double d = double(old->getValue(openvdb::Index(off))) + thick;
         return d <= 0 ? 0.0 : std::min(reach2, d * d);
     };
     std::array<std::uint64_t, kLeafSize / 64> lowered{};  // bit per voxel: in out.list already
