@@ -1,7 +1,9 @@
 // OpenVDB translation unit: the broken object (eq. 6.1) and the tile-aware connected-component
 // search with detail-preserving over-segmentation (ch. 6.3, App. B listing 1), in parallel
-// (oneTBB) with a result independent of the thread count: a concurrent union-find whose roots
-// are the smallest items of their components, then each fragment grid built block by block.
+// (oneTBB) with a result independent of the thread count: a concurrent union-find over the pieces
+// of the leaves (26-connected parts, on bit masks) and the inside tiles whose roots are the
+// smallest items of their components, then each fragment grid built block by block from bit
+// masks. Work scales with the leaves (surface and crack bands), not with the interior's tiles.
 #include "nodes/segment/fragments.hpp"
 
 #include "graph/diagnostics.hpp"
@@ -23,7 +25,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
+#include <type_traits>
 
 namespace cf {
 
@@ -91,10 +93,48 @@ constexpr int kLeafDim = int(LeafT::DIM);          // 8
 constexpr int kLeafSize = int(LeafT::SIZE);        // 512
 constexpr int kRegion = kLeafDim + 4;              // a block and the 2-voxel ring around it (d <= 2)
 
-struct CoordHash {
-    std::size_t operator()(const Coord& c) const {
-        return std::size_t(c[0]) * 73856093u ^ std::size_t(c[1]) * 19349663u ^ std::size_t(c[2]) * 83492791u;
+// Index of a leaf by its address and of a tile by its origin: open addressing with linear
+// probing over a power-of-two table (the lookups of every block's 27 neighbours dominate the
+// search's set-up; std::unordered_map took several times longer). Filled once, then read-only.
+template <typename Key>
+class FlatIndex {
+public:
+    void reserve(std::size_t n) {
+        std::size_t cap = 16;
+        while (cap < 2 * n) cap <<= 1;
+        keys_.assign(cap, empty());
+        values_.assign(cap, -1);
+        mask_ = cap - 1;
     }
+    void insert(const Key& k, int v) {
+        std::size_t i = hash(k) & mask_;
+        while (!(keys_[i] == empty())) i = (i + 1) & mask_;
+        keys_[i] = k;
+        values_[i] = v;
+    }
+    int find(const Key& k) const {  // -1 if absent
+        if (keys_.empty()) return -1;
+        for (std::size_t i = hash(k) & mask_;; i = (i + 1) & mask_) {
+            if (keys_[i] == k) return values_[i];
+            if (keys_[i] == empty()) return -1;
+        }
+    }
+
+private:
+    static Key empty() {
+        if constexpr (std::is_pointer_v<Key>) return nullptr;
+        else return Key(std::numeric_limits<int>::min());
+    }
+    static std::size_t hash(const Key& k) {
+        std::uint64_t h;
+        if constexpr (std::is_pointer_v<Key>) h = std::uint64_t(reinterpret_cast<std::uintptr_t>(k)) >> 4;
+        else h = std::uint64_t(std::uint32_t(k[0])) * 73856093u ^ std::uint64_t(std::uint32_t(k[1])) * 19349663u ^
+                 std::uint64_t(std::uint32_t(k[2])) * 83492791u;
+        return std::size_t((h * 0x9E3779B97F4A7C15ull) >> 20);
+    }
+    std::vector<Key> keys_;
+    std::vector<int> values_;
+    std::size_t mask_ = 0;
 };
 
 // Tile dimension (voxels per side) for a value found at accessor depth 0 (root tile), 1, 2.
@@ -110,70 +150,77 @@ int tile_dim_at_depth(int depth) {
 // or the background), which is an inside item of the search when it is an indexed tile.
 struct BlockRef {
     int leaf = -1;       // index into the leaf list, or -1
-    int tile_item = -1;  // item of an inside tile (tiles used), or -1
+    int tile = -1;       // index of an inside tile (tiles used), or -1
     float value = 0;     // the block's value when it is not a leaf
 };
 using BlockNeighbourhood = std::array<BlockRef, 27>;  // (bx, by, bz) in {-1,0,1}^3, x slowest
 int block_slot(int bx, int by, int bz) { return (bx + 1) * 9 + (by + 1) * 3 + (bz + 1); }
 
-// The items of the search: voxels of leaf nodes (512 slots per leaf, in leaf iteration order)
-// and tiles; "inside" means value + s <= 0 (tiles only when tiles are used). Read-only after
-// construction, so any number of threads may query it, each with its own accessor.
+// The search works on pieces, not voxels: a piece is a 26-connected set of inside voxels within
+// one leaf (value + s <= 0), found on the leaf's bit mask; items of the union-find are the pieces
+// (in leaf iteration order, each leaf's pieces by their smallest voxel offset) and then the inside
+// tiles (tiles used). A component's smallest item therefore holds its smallest voxel in the
+// order leaf, offset, then tiles: the numbering is that of a voxel-by-voxel search.
+// ItemIndex: the leaves and inside tiles of the input and where a block of it lies. Read-only
+// after construction, so any number of threads may query it, each with its own accessor.
 class ItemIndex {
 public:
     ItemIndex(const openvdb::FloatGrid& g, float s, bool use_tiles, const CancelToken& cancel) : tree_(g.tree()), s_(s) {
+        leaves_.reserve(g.tree().leafCount());
         for (auto it = g.tree().cbeginLeaf(); it; ++it) {
             if ((leaves_.size() & 4095) == 0) cancel.poll();  // a million leaves take about a second
-            leaf_index_[&*it] = int(leaves_.size());
             leaves_.push_back(&*it);
         }
-        tile_base_ = leaves_.size() * LeafT::SIZE;
+        leaf_index_.reserve(leaves_.size());
+        for (std::size_t l = 0; l < leaves_.size(); ++l) leaf_index_.insert(leaves_[l], int(l));
         if (use_tiles) {
             auto it = g.tree().cbeginValueAll();
             it.setMaxDepth(FloatTree::ValueAllCIter::LEAF_DEPTH - 1);  // tiles only
             for (; it; ++it) {
                 if (!it.isTileValue() || *it + s > 0) continue;
-                const openvdb::CoordBBox b = it.getBoundingBox();
-                tile_index_[b.min()] = int(tiles_.size());
-                tiles_.push_back(b);
+                tiles_.push_back(it.getBoundingBox());
                 tile_values_.push_back(*it);
                 tile_levels_.push_back(int(it.getLevel()));
             }
         }
-        if (tile_base_ + tiles_.size() >= std::size_t(std::numeric_limits<int>::max()))
+        tile_index_.reserve(tiles_.size());
+        for (std::size_t t = 0; t < tiles_.size(); ++t) tile_index_.insert(tiles_[t].min(), int(t));
+        if (leaves_.size() * kLeafSize / 2 + tiles_.size() >= std::size_t(std::numeric_limits<int>::max()))
             throw std::invalid_argument("broken object has " + std::to_string(leaves_.size()) +
                                         " leaf nodes, too many for the fragment search (at most " +
-                                        std::to_string(std::numeric_limits<int>::max() / LeafT::SIZE) +
+                                        std::to_string(std::numeric_limits<int>::max() / (LeafT::SIZE / 2)) +
                                         "); use a larger voxel size r_f");
     }
     ConstAccessor accessor() const { return ConstAccessor(tree_); }
-    std::size_t size() const { return tile_base_ + tiles_.size(); }
     const std::vector<const LeafT*>& leaves() const { return leaves_; }
     const std::vector<openvdb::CoordBBox>& tiles() const { return tiles_; }
-    std::size_t tile_base() const { return tile_base_; }
     float tile_value(std::size_t t) const { return tile_values_[t]; }
     int tile_level(std::size_t t) const { return tile_levels_[t]; }
     bool voxel_inside(float v) const { return v + s_ <= 0; }
 
-    // Inside tile item holding c (c not in a leaf), else -1.
-    int tile_item(const Coord& c, int depth) const {
-        if (depth < 0 || tile_index_.empty()) return -1;  // background: outside
+    // Index of the inside tile holding c (c not in a leaf, found at accessor depth `depth`), else -1.
+    int tile_at(const Coord& c, int depth) const {
+        if (depth < 0 || tiles_.empty()) return -1;  // background: outside
         const int dim = tile_dim_at_depth(depth);
-        const Coord origin(c[0] & ~(dim - 1), c[1] & ~(dim - 1), c[2] & ~(dim - 1));
-        auto it = tile_index_.find(origin);
-        return it == tile_index_.end() ? -1 : int(tile_base_ + it->second);
+        return tile_index_.find(Coord(c[0] & ~(dim - 1), c[1] & ~(dim - 1), c[2] & ~(dim - 1)));
     }
 
-    // Item holding coordinate c if it is inside, else -1.
-    long long inside_item(ConstAccessor& acc, const Coord& c) const {
+    // The leaf holding c (its index, with the voxel offset), or else the inside tile (-1 if none).
+    struct Place {
+        int leaf = -1;
+        openvdb::Index offset = 0;
+        int tile = -1;
+    };
+    Place place(ConstAccessor& acc, const Coord& c) const {
+        Place p;
         const int depth = acc.getValueDepth(c);
         if (depth == int(FloatTree::DEPTH) - 1) {
-            const LeafT* leaf = acc.probeConstLeaf(c);
-            const openvdb::Index off = LeafT::coordToOffset(c);
-            if (!voxel_inside(leaf->getValue(off))) return -1;
-            return (long long)(leaf_index_.at(leaf)) * LeafT::SIZE + off;
+            p.leaf = leaf_index_.find(acc.probeConstLeaf(c));
+            p.offset = LeafT::coordToOffset(c);
+        } else {
+            p.tile = tile_at(c, depth);
         }
-        return tile_item(c, depth);
+        return p;
     }
 
     // The block with origin o (a multiple of 8).
@@ -181,11 +228,11 @@ public:
         BlockRef b;
         const int depth = acc.getValueDepth(o);
         if (depth == int(FloatTree::DEPTH) - 1) {
-            b.leaf = leaf_index_.at(acc.probeConstLeaf(o));
+            b.leaf = leaf_index_.find(acc.probeConstLeaf(o));
             return b;
         }
         b.value = acc.getValue(o);
-        b.tile_item = tile_item(o, depth);
+        b.tile = tile_at(o, depth);
         return b;
     }
     BlockNeighbourhood neighbourhood(ConstAccessor& acc, const Coord& o) const {
@@ -201,12 +248,11 @@ private:
     const FloatTree& tree_;
     float s_;
     std::vector<const LeafT*> leaves_;
-    std::unordered_map<const LeafT*, int> leaf_index_;
-    std::size_t tile_base_ = 0;
+    FlatIndex<const LeafT*> leaf_index_;
     std::vector<openvdb::CoordBBox> tiles_;
     std::vector<float> tile_values_;
     std::vector<int> tile_levels_;
-    std::unordered_map<Coord, int, CoordHash> tile_index_;
+    FlatIndex<Coord> tile_index_;
 };
 
 // Union-find shared by all threads. Links always go from the larger root to the smaller one
@@ -220,7 +266,6 @@ public:
             for (std::size_t i = r.begin(); i != r.end(); ++i) parent_[i].store(int(i), std::memory_order_relaxed);
         });
     }
-    void set_parent(int x, int p) { parent_[x].store(p, std::memory_order_relaxed); }
     int parent(int x) const { return parent_[x].load(std::memory_order_relaxed); }
     int find(int x) {
         int p = parent(x);
@@ -252,19 +297,57 @@ using LeafMask = std::array<std::uint64_t, kLeafDim>;
 // Rows along z of a leaf and its 1-voxel ring (10 bits each).
 using RingRows = std::array<std::array<std::uint16_t, kLeafDim + 2>, kLeafDim + 2>;
 
+constexpr std::uint64_t kZ0 = 0x0101010101010101ull, kZ7 = 0x8080808080808080ull;  // z = 0, z = 7
+
+bool any_bit(const LeafMask& m) {
+    std::uint64_t a = 0;
+    for (std::uint64_t w : m) a |= w;
+    return a != 0;
+}
+
 // 26-neighbourhood dilation within the leaf.
 LeafMask dilate26(const LeafMask& f) {
-    constexpr std::uint64_t z0 = 0x0101010101010101ull, z7 = 0x8080808080808080ull;  // z = 0, z = 7
     LeafMask yz, out;
     for (int x = 0; x < kLeafDim; ++x) {
         const std::uint64_t w = f[std::size_t(x)];
-        const std::uint64_t d = w | ((w << 1) & ~z0) | ((w >> 1) & ~z7);  // z +- 1 within each row
-        yz[std::size_t(x)] = d | (d << 8) | (d >> 8);                       // y +- 1
+        const std::uint64_t d = w | ((w << 1) & ~kZ0) | ((w >> 1) & ~kZ7);  // z +- 1 within each row
+        yz[std::size_t(x)] = d | (d << 8) | (d >> 8);                         // y +- 1
     }
     for (int x = 0; x < kLeafDim; ++x)
         out[std::size_t(x)] = yz[std::size_t(x)] | (x > 0 ? yz[std::size_t(x - 1)] : 0) |
                               (x + 1 < kLeafDim ? yz[std::size_t(x + 1)] : 0);
     return out;
+}
+
+// The voxels of the neighbouring leaf in direction (dx, dy, dz) (each in {-1, 0, 1}) that are
+// 26-neighbours of the voxels of m, in that leaf's own coordinates. Empty iff m has no voxel on
+// the face, edge or corner facing that direction.
+LeafMask across(const LeafMask& m, int dx, int dy, int dz) {
+    LeafMask yz{};
+    for (int x = 0; x < kLeafDim; ++x) {
+        std::uint64_t w = m[std::size_t(x)];
+        if (dz > 0) w = (w & kZ7) >> 7;
+        else if (dz < 0) w = (w & kZ0) << 7;
+        else w = w | ((w << 1) & ~kZ0) | ((w >> 1) & ~kZ7);
+        if (dy > 0) w >>= 56;
+        else if (dy < 0) w <<= 56;
+        else w = w | (w << 8) | (w >> 8);
+        yz[std::size_t(x)] = w;
+    }
+    LeafMask out{};
+    if (dx > 0) out[0] = yz[kLeafDim - 1];
+    else if (dx < 0) out[kLeafDim - 1] = yz[0];
+    else
+        for (int x = 0; x < kLeafDim; ++x)
+            out[std::size_t(x)] = yz[std::size_t(x)] | (x > 0 ? yz[std::size_t(x - 1)] : 0) |
+                                  (x + 1 < kLeafDim ? yz[std::size_t(x + 1)] : 0);
+    return out;
+}
+
+bool overlap(const LeafMask& a, const LeafMask& b) {
+    std::uint64_t o = 0;
+    for (int x = 0; x < kLeafDim; ++x) o |= a[std::size_t(x)] & b[std::size_t(x)];
+    return o != 0;
 }
 
 // A kRegion^3 mask as rows along z: bit z of rows[x][y] (z in [0, kRegion)).
@@ -299,60 +382,110 @@ BlockRows dilate_to_block(const RegionRows& in, int r) {
     return out;
 }
 
-// Labels per item (-1: outside) and per-leaf-voxel boundary flags (an inside voxel with an
-// outside 26-neighbour), from the parallel connected-component search.
+// The pieces and their components: per leaf its pieces (bit masks) and boundary voxels (inside
+// with an outside 26-neighbour), a label per piece and per inside tile (-1: not inside).
 struct Labelling {
-    std::vector<int> label;
-    std::vector<std::uint8_t> boundary;
+    std::vector<std::uint32_t> piece_begin;  // leaf l's pieces: [piece_begin[l], piece_begin[l + 1])
+    std::vector<LeafMask> piece;             // per piece
+    std::vector<LeafMask> boundary;          // per leaf
+    std::vector<int> piece_label;            // per piece
+    std::vector<int> tile_label;             // per tile
     int count = 0;
 };
 
-// The parallel connected-component search of find_fragments (its steps 1-3): inside items are
-// united in a ConcurrentForest, voxels with their 26 neighbours, tiles with their 6 face
-// neighbours, then numbered in order of their smallest item (deterministic).
+// The parallel connected-component search of find_fragments (its steps 1-3): pieces with the
+// pieces of the 26 neighbouring leaves they touch and with the inside tiles next to them (all
+// on bit masks), tiles with their 6 face neighbours; then numbered in order of their smallest
+// item (deterministic).
 class ComponentSearch {
 public:
-    // Polls `cancel` per leaf, tile and chunk of items: each is well under a millisecond.
     ComponentSearch(const ItemIndex& items, const std::vector<BlockNeighbourhood>& nbhd, const CancelToken& cancel)
-        : items_(items), nbhd_(nbhd), leaves_(items.leaves()), n_(items.size()), forest_(n_), cancel_(cancel) {}
+        : items_(items), nbhd_(nbhd), leaves_(items.leaves()), cancel_(cancel) {}
 
     Labelling run() {
-        mark_inside();
-        out_.boundary.assign(leaves_.size() * LeafT::SIZE, 0);
-        // 1a. Within each leaf, and its boundary voxels. 1b. Across leaf faces.
+        find_pieces();
+        ConcurrentForest forest(out_.piece.size() + items_.tiles().size());
+        // 1. Pieces across leaf faces, edges and corners, and with inside tiles; boundary voxels.
         tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
             cancel_.poll();
-            link_within_leaf(l);
+            link_across(l, forest);
             mark_boundary(l);
         });
-        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
-            cancel_.poll();
-            link_across_faces(l);
-        });
         // 2. Tiles with their face neighbours. 3. Components numbered.
-        link_tiles();
-        number_components();
+        link_tiles(forest);
+        number_components(forest);
         return std::move(out_);
     }
 
 private:
-    // Inside flags per item and inside bits per leaf; inside tiles are inside by construction.
-    void mark_inside() {
-        inside_.assign(n_, 0);
-        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
+    // Inside bits per leaf, then each leaf's pieces: flooded (26-neighbourhood) from the lowest
+    // remaining voxel, so the pieces come in order of their smallest offset.
+    void find_pieces() {
+        const std::size_t n = leaves_.size();
+        masks_.assign(n, LeafMask{});
+        std::vector<std::vector<LeafMask>> pieces(n);
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t l) {
             cancel_.poll();
             const LeafT& leaf = *leaves_[l];
-            const std::size_t base = l * LeafT::SIZE;
+            const float* v = leaf.buffer().data();
+            LeafMask& m = masks_[l];
             for (int off = 0; off < kLeafSize; ++off)
-                if (items_.voxel_inside(leaf.getValue(openvdb::Index(off)))) inside_[base + off] = 1;
+                if (items_.voxel_inside(v[off])) m[std::size_t(off >> 6)] |= std::uint64_t(1) << (off & 63);
+            LeafMask remaining = m;
+            for (int x = 0; x < kLeafDim; ++x)
+                while (remaining[std::size_t(x)]) {
+                    LeafMask piece{};
+                    piece[std::size_t(x)] = remaining[std::size_t(x)] & (~remaining[std::size_t(x)] + 1);  // lowest bit
+                    for (;;) {
+                        LeafMask grown = dilate26(piece);
+                        bool changed = false;
+                        for (int w = 0; w < kLeafDim; ++w) {
+                            grown[std::size_t(w)] &= m[std::size_t(w)];
+                            changed |= grown[std::size_t(w)] != piece[std::size_t(w)];
+                        }
+                        if (!changed) break;
+                        piece = grown;
+                    }
+                    for (int w = 0; w < kLeafDim; ++w) remaining[std::size_t(w)] &= ~piece[std::size_t(w)];
+                    pieces[l].push_back(piece);
+                }
         });
-        std::fill(inside_.begin() + std::ptrdiff_t(items_.tile_base()), inside_.end(), std::uint8_t(1));  // inside tiles only
-        masks_.assign(leaves_.size(), LeafMask{});
-        tbb::parallel_for(std::size_t(0), leaves_.size(), [&](std::size_t l) {
-            cancel_.poll();
-            for (int off = 0; off < kLeafSize; ++off)
-                if (inside_[l * LeafT::SIZE + std::size_t(off)]) masks_[l][std::size_t(off >> 6)] |= std::uint64_t(1) << (off & 63);
+        out_.piece_begin.assign(n + 1, 0);
+        for (std::size_t l = 0; l < n; ++l) out_.piece_begin[l + 1] = out_.piece_begin[l] + std::uint32_t(pieces[l].size());
+        out_.piece.resize(out_.piece_begin[n]);
+        out_.boundary.assign(n, LeafMask{});
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t l) {
+            std::copy(pieces[l].begin(), pieces[l].end(), out_.piece.begin() + std::ptrdiff_t(out_.piece_begin[l]));
         });
+    }
+
+    int tile_item(int t) const { return int(out_.piece.size()) + t; }
+
+    // Leaf l's pieces with the pieces of the neighbouring leaves they touch (each pair of leaves
+    // once: from the leaf with the neighbour in a positive direction) and with inside tiles.
+    void link_across(std::size_t l, ConcurrentForest& forest) const {
+        const std::uint32_t p0 = out_.piece_begin[l], p1 = out_.piece_begin[l + 1];
+        if (p0 == p1) return;
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                    if (dx == 0 && dy == 0 && dz == 0) continue;
+                    const BlockRef& b = nbhd_[l][block_slot(dx, dy, dz)];
+                    const bool positive = dx > 0 || (dx == 0 && (dy > 0 || (dy == 0 && dz > 0)));
+                    if (b.leaf >= 0 && !positive) continue;
+                    if (b.leaf < 0 && b.tile < 0) continue;
+                    for (std::uint32_t p = p0; p < p1; ++p) {
+                        const LeafMask a = across(out_.piece[p], dx, dy, dz);
+                        if (!any_bit(a)) continue;
+                        if (b.leaf < 0) {
+                            forest.unite(int(p), tile_item(b.tile));
+                            continue;
+                        }
+                        const std::uint32_t q0 = out_.piece_begin[std::size_t(b.leaf)], q1 = out_.piece_begin[std::size_t(b.leaf) + 1];
+                        for (std::uint32_t q = q0; q < q1; ++q)
+                            if (overlap(a, out_.piece[q])) forest.unite(int(p), int(q));
+                    }
+                }
     }
 
     // Inside bits of leaf l's block and its 1-voxel ring: bit z + 1 of rows[x + 1][y + 1] for
@@ -371,7 +504,7 @@ private:
                                 const std::uint64_t w = masks_[std::size_t(b.leaf)][std::size_t(x - kPart[bx][0] + kPart[bx][2])];
                                 bits = unsigned(w >> (8 * (y - kPart[by][0] + kPart[by][2]))) & 0xFFu;
                             } else {
-                                bits = b.tile_item >= 0 ? 0xFFu : 0u;
+                                bits = b.tile >= 0 ? 0xFFu : 0u;
                             }
                             // Block z in [first, first + count) goes to region z from kPart[bz][0].
                             const int first = kPart[bz][2], count = kPart[bz][1] - kPart[bz][0];
@@ -382,53 +515,11 @@ private:
         return rows;
     }
 
-    // Is the voxel at local coordinate (x, y, z) of leaf l's block neighbourhood (each in
-    // [-8, 16)) inside? Returns its item, or -1.
-    long long neighbour_item(std::size_t l, int x, int y, int z) const {
-        const int bx = x < 0 ? -1 : (x >= kLeafDim ? 1 : 0), by = y < 0 ? -1 : (y >= kLeafDim ? 1 : 0),
-                  bz = z < 0 ? -1 : (z >= kLeafDim ? 1 : 0);
-        const BlockRef& b = nbhd_[l][block_slot(bx, by, bz)];
-        if (b.leaf < 0) return b.tile_item;
-        const long long item = (long long)b.leaf * kLeafSize +
-                               LeafT::coordToOffset(Coord(x - bx * kLeafDim, y - by * kLeafDim, z - bz * kLeafDim));
-        return inside_[item] ? item : -1;
-    }
-
-    // 1a. Within leaf l (26-neighbourhood), on bit masks (word x, bit 8 y + z = offset): each
-    // piece is flooded from its smallest offset, to which all its voxels then point.
-    void link_within_leaf(std::size_t l) {
-        const LeafMask& m = masks_[l];
-        LeafMask remaining = m;
-        const std::size_t base = l * LeafT::SIZE;
-        for (int x = 0; x < kLeafDim; ++x) {
-            while (remaining[std::size_t(x)]) {
-                LeafMask piece{};
-                piece[std::size_t(x)] = remaining[std::size_t(x)] & (~remaining[std::size_t(x)] + 1);  // lowest bit
-                const int root = x * 64 + __builtin_ctzll(piece[std::size_t(x)]);
-                for (;;) {
-                    LeafMask grown = dilate26(piece);
-                    bool changed = false;
-                    for (int w = 0; w < kLeafDim; ++w) {
-                        grown[std::size_t(w)] &= m[std::size_t(w)];
-                        changed |= grown[std::size_t(w)] != piece[std::size_t(w)];
-                    }
-                    if (!changed) break;
-                    piece = grown;
-                }
-                for (int w = 0; w < kLeafDim; ++w) {
-                    remaining[std::size_t(w)] &= ~piece[std::size_t(w)];
-                    for (std::uint64_t bits = piece[std::size_t(w)]; bits; bits &= bits - 1)
-                        forest_.set_parent(int(base + std::size_t(w * 64 + __builtin_ctzll(bits))), int(base + std::size_t(root)));
-                }
-            }
-        }
-    }
-
     // Boundary voxels of leaf l: inside with an outside 26-neighbour, in this leaf or beyond its
     // faces (the outside voxels of the leaf and its 1-voxel ring, dilated by one onto the leaf).
     void mark_boundary(std::size_t l) {
         const LeafMask& m = masks_[l];
-        const std::size_t base = l * LeafT::SIZE;
+        if (!any_bit(m)) return;
         const RingRows in = ring_rows(l);
         for (int x = 0; x < kLeafDim; ++x) {
             std::uint64_t near_outside = 0;
@@ -441,108 +532,59 @@ private:
                     }
                 near_outside |= std::uint64_t((d >> 1) & 0xFFu) << (8 * y);
             }
-            std::uint64_t b = near_outside & m[std::size_t(x)];
-            for (; b; b &= b - 1) out_.boundary[base + std::size_t(x * 64 + __builtin_ctzll(b))] = 1;
+            out_.boundary[l][std::size_t(x)] = near_outside & m[std::size_t(x)];
         }
     }
 
-    // 1b. Across the faces of leaf l: inside voxels with their inside neighbours in other leaves
-    // and in inside tiles.
-    void link_across_faces(std::size_t l) {
-        const std::size_t base = l * LeafT::SIZE;
-        int last_a = -1, last_b = -1;
-        for (int x = 0; x < kLeafDim; ++x)
-            for (int y = 0; y < kLeafDim; ++y)
-                for (int z = 0; z < kLeafDim; ++z) {
-                    const bool face = x == 0 || y == 0 || z == 0 || x == kLeafDim - 1 || y == kLeafDim - 1 ||
-                                      z == kLeafDim - 1;
-                    const int off = (x * kLeafDim + y) * kLeafDim + z;
-                    if (!face || !inside_[base + off]) continue;
-                    for (int dx = -1; dx <= 1; ++dx)
-                        for (int dy = -1; dy <= 1; ++dy)
-                            for (int dz = -1; dz <= 1; ++dz) {
-                                const int nx = x + dx, ny = y + dy, nz = z + dz;
-                                if (nx >= 0 && nx < kLeafDim && ny >= 0 && ny < kLeafDim && nz >= 0 && nz < kLeafDim)
-                                    continue;
-                                const long long other = neighbour_item(l, nx, ny, nz);
-                                // A voxel-voxel edge is seen from both ends: take it from the
-                                // smaller item only. Tiles do not look back at voxels.
-                                if (other < 0 || (other < (long long)items_.tile_base() && other < (long long)(base + off)))
-                                    continue;
-                                // Uniting ancestors is the same as uniting the items; runs of
-                                // face voxels mostly repeat the previous pair of pieces.
-                                const int a = forest_.parent(int(base + off)), b = forest_.parent(int(other));
-                                if (a == last_a && b == last_b) continue;
-                                last_a = a;
-                                last_b = b;
-                                forest_.unite(a, b);
-                            }
-                }
+    // The item of an inside voxel or tile at c, or -1.
+    int inside_item(ConstAccessor& acc, const Coord& c) const {
+        const ItemIndex::Place p = items_.place(acc, c);
+        if (p.leaf < 0) return p.tile >= 0 ? tile_item(p.tile) : -1;
+        const std::uint64_t bit = std::uint64_t(1) << (p.offset & 63);
+        for (std::uint32_t q = out_.piece_begin[std::size_t(p.leaf)]; q < out_.piece_begin[std::size_t(p.leaf) + 1]; ++q)
+            if (out_.piece[q][p.offset >> 6] & bit) return int(q);
+        return -1;
     }
 
     // 2. Tiles: one probe just beyond each face (ch. 6.3). A neighbour at least as large as
     // the tile covers the whole face, so this probe finds it; smaller neighbours (voxels,
     // smaller tiles) find the tile from their own side.
-    void link_tiles() {
+    void link_tiles(ConcurrentForest& forest) const {
         tbb::enumerable_thread_specific<ConstAccessor> accs([&] { return items_.accessor(); });
         tbb::parallel_for(std::size_t(0), items_.tiles().size(), [&](std::size_t t) {
             cancel_.poll();
             ConstAccessor& acc = accs.local();
-            const int item = int(items_.tile_base() + t);
+            const int item = tile_item(int(t));
             const openvdb::CoordBBox& b = items_.tiles()[t];
             const Coord probes[6] = {b.min().offsetBy(-1, 0, 0), b.min().offsetBy(0, -1, 0), b.min().offsetBy(0, 0, -1),
                                      b.max().offsetBy(1, 0, 0),  b.max().offsetBy(0, 1, 0),  b.max().offsetBy(0, 0, 1)};
             for (const Coord& p : probes) {
-                const long long other = items_.inside_item(acc, p);
-                if (other >= 0) forest_.unite(item, int(other));
+                const int other = inside_item(acc, p);
+                if (other >= 0) forest.unite(item, other);
             }
         });
     }
 
     // 3. Components numbered in order of their smallest item, which is their root.
-    void number_components() {
-        const std::size_t n = n_;
-        out_.label.assign(n, -1);
-        constexpr std::size_t kChunk = 1 << 16;  // fixed chunks: the numbering is a plain prefix count
-        const std::size_t chunks = (n + kChunk - 1) / kChunk;
-        std::vector<int> roots_in_chunk(chunks, 0);
-        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-            cancel_.poll();
-            int roots = 0;
-            for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-                if (!inside_[i]) continue;
-                const int r = forest_.find(int(i));
-                if (r == int(i)) ++roots;
-            }
-            roots_in_chunk[c] = roots;
-        });
-        std::vector<int> first_label(chunks, 0);
-        for (std::size_t c = 1; c < chunks; ++c) first_label[c] = first_label[c - 1] + roots_in_chunk[c - 1];
-        out_.count = chunks ? first_label.back() + roots_in_chunk.back() : 0;
-        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-            cancel_.poll();
-            int next = first_label[c];
-            for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
-                if (inside_[i] && forest_.parent(int(i)) == int(i)) out_.label[i] = next++;
-        });
-        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-            cancel_.poll();
-            for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-                if (!inside_[i]) continue;
-                const int r = forest_.find(int(i));
-                if (r != int(i)) out_.label[i] = out_.label[r];
-            }
-        });
+    void number_components(ConcurrentForest& forest) {
+        const int pieces = int(out_.piece.size()), n = pieces + int(items_.tiles().size());
+        std::vector<int> label(std::size_t(n), -1);
+        int next = 0;
+        for (int i = 0; i < n; ++i) {
+            const int r = forest.find(i);
+            label[std::size_t(i)] = r == i ? next++ : label[std::size_t(r)];
+        }
+        out_.count = next;
+        out_.tile_label.assign(label.begin() + pieces, label.end());
+        label.resize(std::size_t(pieces));
+        out_.piece_label = std::move(label);
     }
 
     const ItemIndex& items_;
     const std::vector<BlockNeighbourhood>& nbhd_;
     const std::vector<const LeafT*>& leaves_;
-    const std::size_t n_;
-    ConcurrentForest forest_;
     const CancelToken cancel_;
-    std::vector<std::uint8_t> inside_;  // per item
-    std::vector<LeafMask> masks_;       // per leaf
+    std::vector<LeafMask> masks_;  // inside voxels per leaf
     Labelling out_;
 };
 
@@ -562,15 +604,17 @@ public:
         : items_(items), lab_(lab), d_(d), sf_(sf), bg_(bg), half_voxel_(float(0.5 * r_f)) {}
 
     BlockOutput build(const Coord& origin, const BlockNeighbourhood& nb) const {
-        const Region region = gather_region(nb);
         BlockOutput out;
-        if (region.hi_label < 0) return out;  // no inside voxel reaches this block
-        const bool one_label = region.lo_label == region.hi_label;
-        const std::vector<int> frags = candidate_fragments(region, one_label);
-        const std::array<float, kLeafSize> value = block_values(nb);
-        for (const int k : frags) {
-            std::unique_ptr<LeafT> leaf = fragment_leaf(origin, region, k, one_label, value);
-            if (leaf) out.leaves.emplace_back(k, std::move(leaf));
+        const Region region = gather_region(nb);
+        if (region.parts.empty()) return out;
+        RegionRows any_inside{};
+        for (const LabelRows& p : region.parts)
+            for (int x = 0; x < R; ++x)
+                for (int y = 0; y < R; ++y) any_inside[x][y] |= p.voxels[x][y] | p.tiles[x][y];
+        for (const LabelRows& p : region.parts) {
+            if (!candidate(p)) continue;
+            std::unique_ptr<LeafT> leaf = fragment_leaf(origin, nb, p, any_inside);
+            if (leaf) out.leaves.emplace_back(p.label, std::move(leaf));
         }
         return out;
     }
@@ -578,146 +622,119 @@ public:
 private:
     static constexpr int R = kRegion;
 
-    // Item labels and flags (bit 0: inside leaf voxel, bit 1: boundary voxel) over the block and
-    // its 2-voxel ring (region index = block coordinate + 2), with the same as row bit masks and
-    // the range of labels over inside leaf voxels.
-    struct Region {
-        std::array<int, R * R * R> label;
-        std::array<std::uint8_t, R * R * R> flags;
-        RegionRows inside_rows{}, boundary_rows{};
-        int lo_label = std::numeric_limits<int>::max(), hi_label = -1;
+    // One component's inside leaf voxels, inside tile voxels and boundary voxels over the block
+    // and its 2-voxel ring (region index = block coordinate + 2), as rows along z.
+    struct LabelRows {
+        int label = -1;
+        RegionRows voxels{}, tiles{}, boundary{};
     };
+    struct Region {
+        std::vector<LabelRows> parts;  // sorted by label
+    };
+
+    static LabelRows& part_of(Region& g, int label) {
+        auto it = std::lower_bound(g.parts.begin(), g.parts.end(), label,
+                                   [](const LabelRows& p, int k) { return p.label < k; });
+        if (it == g.parts.end() || it->label != label) {
+            it = g.parts.insert(it, LabelRows{});
+            it->label = label;
+        }
+        return *it;
+    }
 
     // The region filled block by block: for each axis, the region part [begin, end) of the lower,
     // central and upper block and the block coordinate where it starts.
     Region gather_region(const BlockNeighbourhood& nb) const {
         static constexpr int kPart[3][3] = {{0, 2, kLeafDim - 2}, {2, 2 + kLeafDim, 0}, {2 + kLeafDim, R, 0}};
         Region g;
+        auto add = [](RegionRows& rows, const LeafMask& m, int bx, int by, int bz) {
+            const int first = kPart[bz][2], count = kPart[bz][1] - kPart[bz][0];
+            for (int x = kPart[bx][0]; x < kPart[bx][1]; ++x) {
+                const std::uint64_t w = m[std::size_t(x - kPart[bx][0] + kPart[bx][2])];
+                if (!w) continue;
+                for (int y = kPart[by][0]; y < kPart[by][1]; ++y) {
+                    const unsigned bits = unsigned(w >> (8 * (y - kPart[by][0] + kPart[by][2]))) & 0xFFu;
+                    rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(((bits >> first) & ((1u << count) - 1u)) << kPart[bz][0]);
+                }
+            }
+        };
+        static const LeafMask kFull = [] {
+            LeafMask f;
+            f.fill(~std::uint64_t(0));
+            return f;
+        }();
         for (int bx = 0; bx < 3; ++bx)
             for (int by = 0; by < 3; ++by)
                 for (int bz = 0; bz < 3; ++bz) {
                     const BlockRef& b = nb[std::size_t(bx * 9 + by * 3 + bz)];
-                    const int tile_label = b.tile_item >= 0 ? lab_.label[std::size_t(b.tile_item)] : -1;
-                    for (int x = kPart[bx][0]; x < kPart[bx][1]; ++x)
-                        for (int y = kPart[by][0]; y < kPart[by][1]; ++y) {
-                            const int q0 = (x * R + y) * R;
-                            if (b.leaf < 0) {
-                                for (int z = kPart[bz][0]; z < kPart[bz][1]; ++z) {
-                                    g.label[q0 + z] = tile_label;
-                                    g.flags[q0 + z] = 0;
-                                }
-                                continue;
-                            }
-                            const std::size_t row = std::size_t(b.leaf) * LeafT::SIZE +
-                                                    std::size_t(((x - kPart[bx][0] + kPart[bx][2]) << 6) |
-                                                                ((y - kPart[by][0] + kPart[by][2]) << 3));
-                            unsigned in_bits = 0, bd_bits = 0;
-                            for (int z = kPart[bz][0]; z < kPart[bz][1]; ++z) {
-                                const std::size_t item = row + std::size_t(z - kPart[bz][0] + kPart[bz][2]);
-                                const int l = lab_.label[item];
-                                g.label[q0 + z] = l;
-                                const unsigned in = l >= 0, bd = lab_.boundary[item];
-                                g.flags[q0 + z] = std::uint8_t(in | (bd << 1));
-                                in_bits |= in << z;
-                                bd_bits |= bd << z;
-                                if (in) {
-                                    g.lo_label = std::min(g.lo_label, l);
-                                    g.hi_label = std::max(g.hi_label, l);
-                                }
-                            }
-                            g.inside_rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(in_bits);
-                            g.boundary_rows[std::size_t(x)][std::size_t(y)] |= std::uint16_t(bd_bits);
-                        }
+                    if (b.leaf < 0) {
+                        if (b.tile < 0) continue;
+                        add(part_of(g, lab_.tile_label[std::size_t(b.tile)]).tiles, kFull, bx, by, bz);
+                        continue;
+                    }
+                    const LeafMask& bd = lab_.boundary[std::size_t(b.leaf)];
+                    for (std::uint32_t p = lab_.piece_begin[std::size_t(b.leaf)]; p < lab_.piece_begin[std::size_t(b.leaf) + 1]; ++p) {
+                        LabelRows& rows = part_of(g, lab_.piece_label[p]);
+                        add(rows.voxels, lab_.piece[p], bx, by, bz);
+                        LeafMask pb;
+                        for (int w = 0; w < kLeafDim; ++w) pb[std::size_t(w)] = lab_.piece[p][std::size_t(w)] & bd[std::size_t(w)];
+                        add(rows.boundary, pb, bx, by, bz);
+                    }
                 }
         return g;
     }
 
     // Fragments that can write here: inside voxels within 1 (own voxels and their neighbours),
-    // boundary voxels within d (the d-ring). Usually one or two; sorted.
-    std::vector<int> candidate_fragments(const Region& g, bool one_label) const {
-        std::vector<int> frags;
-        if (one_label) frags.push_back(g.lo_label);  // then the candidates are just that label
-        int last = -1;
-        for (int x = 0; x < R && !one_label; ++x)
-            for (int y = 0; y < R; ++y)
-                for (int z = 0; z < R; ++z) {
-                    const int q = (x * R + y) * R + z;
-                    const bool near = x >= 1 && x <= R - 2 && y >= 1 && y <= R - 2 && z >= 1 && z <= R - 2;
-                    if (!(((g.flags[q] & 1) && near) || ((g.flags[q] & 2) && d_ >= 2))) continue;
-                    if (g.label[q] == last) continue;
-                    last = g.label[q];
-                    if (std::find(frags.begin(), frags.end(), last) == frags.end()) frags.push_back(last);
-                }
-        std::sort(frags.begin(), frags.end());
-        return frags;
-    }
-
-    // The input's values over the central block (a leaf's voxels or its tile's value).
-    std::array<float, kLeafSize> block_values(const BlockNeighbourhood& nb) const {
-        std::array<float, kLeafSize> value;
-        const BlockRef& centre = nb[13];
-        for (int off = 0; off < kLeafSize; ++off)
-            value[std::size_t(off)] = centre.leaf >= 0 ? items_.leaves()[std::size_t(centre.leaf)]->getValue(openvdb::Index(off))
-                                                       : centre.value;
-        return value;
+    // boundary voxels within d (the d-ring).
+    bool candidate(const LabelRows& p) const {
+        unsigned any = 0;
+        for (int x = 1; x < R - 1; ++x)
+            for (int y = 1; y < R - 1; ++y) any |= p.voxels[x][y] & 0x7FEu;
+        if (any) return true;
+        if (d_ < 2) return false;
+        for (int x = 0; x < R; ++x)
+            for (int y = 0; y < R; ++y) any |= p.boundary[x][y];
+        return any != 0;
     }
 
     // Fragment k's leaf over the central block (null when it writes nothing there): its own
-    // voxels, their outside 26-neighbours with the input value, and the d-ring.
-    std::unique_ptr<LeafT> fragment_leaf(const Coord& origin, const Region& g, int k, bool one_label,
-                                         const std::array<float, kLeafSize>& value) const {
-        RegionRows inside_k = g.inside_rows, boundary_k = g.boundary_rows;
-        for (int x = 0; x < R && !one_label; ++x)
-            for (int y = 0; y < R; ++y) {
-                unsigned mi = 0, mb = 0;
-                for (int z = 0; z < R; ++z) {
-                    const int q = (x * R + y) * R + z;
-                    if (g.label[q] != k) continue;
-                    mi |= unsigned(g.flags[q] & 1) << z;
-                    mb |= unsigned((g.flags[q] >> 1) & 1) << z;
-                }
-                inside_k[x][y] = std::uint16_t(mi);
-                boundary_k[x][y] = std::uint16_t(mb);
-            }
-        const BlockRows copied = dilate_to_block(inside_k, 1);
+    // voxels, their outside 26-neighbours with the input value, and the d-ring where the input is
+    // positive; shallow negative voxels there get value + s; another fragment's inside voxels and
+    // tiles within the d-ring get +r_f/2 (never copy a neighbour); its own tiles are added as tiles.
+    std::unique_ptr<LeafT> fragment_leaf(const Coord& origin, const BlockNeighbourhood& nb, const LabelRows& k,
+                                         const RegionRows& any_inside) const {
+        const BlockRows copied = dilate_to_block(k.voxels, 1);
         BlockRows ring{};
-        if (d_ >= 2) ring = dilate_to_block(boundary_k, 2);
+        if (d_ >= 2) ring = dilate_to_block(k.boundary, 2);
+        const BlockRef& centre = nb[13];
+        const float* values = centre.leaf >= 0 ? items_.leaves()[std::size_t(centre.leaf)]->buffer().data() : nullptr;
         std::unique_ptr<LeafT> leaf;
         for (int x = 0; x < kLeafDim; ++x)
-            for (int y = 0; y < kLeafDim; ++y)
-                for (int z = 0; z < kLeafDim; ++z) {
-                    const int q = ((x + 2) * R + y + 2) * R + z + 2;
-                    const bool in_copy = (copied[x][y] >> (z + 2)) & 1, in_ring = (ring[x][y] >> (z + 2)) & 1;
+            for (int y = 0; y < kLeafDim; ++y) {
+                const unsigned in = (any_inside[x + 2][y + 2] >> 2) & 0xFFu;
+                const unsigned own = ((k.voxels[x + 2][y + 2] | k.tiles[x + 2][y + 2]) >> 2) & 0xFFu;
+                const unsigned vox = (k.voxels[x + 2][y + 2] >> 2) & 0xFFu;
+                const unsigned cp = (copied[x][y] >> 2) & 0xFFu, rg = (ring[x][y] >> 2) & 0xFFu;
+                const unsigned own_value = in & vox;              // own voxel: the input value
+                const unsigned neighbour = in & ~own & rg;        // another fragment in the ring: +r_f/2
+                const unsigned outside_copy = ~in & cp;           // outside 26-neighbour: the input value
+                const unsigned outside_ring = ~in & ~cp & rg;     // d-ring: shallow negatives over-segmented
+                unsigned write = (own_value | neighbour | outside_copy | outside_ring) & 0xFFu;
+                if (!write) continue;
+                if (!leaf) leaf = std::make_unique<LeafT>(origin, bg_, false);
+                for (; write; write &= write - 1) {
+                    const int z = __builtin_ctz(write);
                     const openvdb::Index off = openvdb::Index((x << 6) | (y << 3) | z);
+                    const float v = values ? values[off] : centre.value;
+                    const unsigned bit = 1u << z;
                     float w;
-                    if (!voxel_value(g, q, k, in_copy, in_ring, value[off], w)) continue;
-                    if (!leaf) leaf = std::make_unique<LeafT>(origin, bg_, false);
+                    if (neighbour & bit) w = half_voxel_;
+                    else if (outside_ring & bit) w = v > 0 ? v : v + sf_;
+                    else w = v;
                     leaf->setValueOn(off, w);
                 }
-        return leaf;
-    }
-
-    // Fragment k's value w at region voxel q with input value v; false: fragment k writes nothing.
-    bool voxel_value(const Region& g, int q, int k, bool in_copy, bool in_ring, float v, float& w) const {
-        if (g.label[q] >= 0) {
-            // Inside: the fragment's own voxels; another fragment's voxels and tiles within the
-            // d-ring get +r_f/2 (never copy a neighbour).
-            if (g.label[q] == k) {
-                if (!(g.flags[q] & 1)) return false;  // own tile: added as a tile
-                w = v;
-            } else if (in_ring) {
-                w = half_voxel_;
-            } else {
-                return false;
             }
-        } else if (in_copy) {
-            w = v;  // outside 26-neighbour: the input value, any sign
-        } else if (in_ring) {
-            w = v > 0 ? v : v + sf_;  // d-ring: shallow negatives over-segmented
-        } else {
-            return false;
-        }
-        return true;
+        return leaf;
     }
 
     const ItemIndex& items_;
@@ -789,32 +806,79 @@ openvdb::FloatGrid::Ptr fragment_grid(const openvdb::FloatGrid& in, const ItemIn
 // Volume, centroid and bbox of a fragment's inside: linear Heaviside clamp(1/2 - phi/r_f, 0, 1)
 // per voxel (exact for a planar interface), whole inside tiles. LevelSetMeasure is not used
 // here: its 3-voxel Dirac delta needs a full outside band, which a fragment has only up to its
-// d-ring. Summed in tree order within a fragment (reproducible).
-// Polled every 65536 values.
-void measure_fragment(const openvdb::FloatGrid& g, double r_f, Fragment& f, const CancelToken& cancel) {
-    double w_sum = 0;
-    Vec3 wx = Vec3::Zero();
-    Coord lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
-    std::size_t visited = 0;
-    for (auto it = g.tree().cbeginValueAll(); it; ++it) {
-        if ((++visited & 65535u) == 0) cancel.poll();
-        const float v = *it;
-        if (v >= 0.5f * float(r_f)) continue;
-        const openvdb::CoordBBox b = it.getBoundingBox();
-        const double w = it.isTileValue() ? 1.0 : std::clamp(0.5 - v / r_f, 0.0, 1.0);
-        if (w <= 0) continue;
-        const double vox = double(b.volume());
-        const Vec3 centre = 0.5 * r_f * Vec3(b.min()[0] + b.max()[0], b.min()[1] + b.max()[1], b.min()[2] + b.max()[2]);
-        w_sum += w * vox;
-        wx += w * vox * centre;
-        if (v < 0) {
-            lo = Coord::minComponent(lo, b.min());
-            hi = Coord::maxComponent(hi, b.max());
+// d-ring. Summed over every value of the tree (voxels and tiles, active or not) in tree order:
+// depth first, each node's children and tiles by offset, as OpenVDB's value iterator visits
+// them, so a fragment's sums do not depend on the thread count. The nodes are walked directly,
+// a leaf's values from its buffer. Polled every 4096 leaves.
+class FragmentMeasure {
+public:
+    FragmentMeasure(double r_f, const CancelToken& cancel) : r_f_(r_f), cancel_(cancel) {}
+
+    void visit(const FloatTree& tree) {
+        const auto& root = tree.root();
+        for (auto it = root.cbeginChildAll(); it; ++it) {
+            float v = 0;
+            if (const auto* child = it.probeChild(v)) node(*child);
+            else tile(it.getCoord(), FloatTree::RootNodeType::ChildNodeType::DIM, v);
         }
     }
-    f.volume = w_sum * r_f * r_f * r_f;
-    f.centroid = w_sum > 0 ? Vec3(wx / w_sum) : Vec3::Zero();
-    f.bbox = Box3{r_f * Vec3(lo[0], lo[1], lo[2]), r_f * Vec3(hi[0], hi[1], hi[2])};
+    void store(Fragment& f) const {
+        f.volume = w_sum_ * r_f_ * r_f_ * r_f_;
+        f.centroid = w_sum_ > 0 ? Vec3(wx_ / w_sum_) : Vec3::Zero();
+        f.bbox = Box3{r_f_ * Vec3(lo_[0], lo_[1], lo_[2]), r_f_ * Vec3(hi_[0], hi_[1], hi_[2])};
+    }
+
+private:
+    template <typename NodeT>
+    void node(const NodeT& n) {
+        for (auto it = n.cbeginChildAll(); it; ++it) {
+            float v = 0;
+            if (const auto* child = it.probeChild(v)) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(*child)>, LeafT>) leaf(*child);
+                else node(*child);
+            } else {
+                tile(it.getCoord(), int(NodeT::ChildNodeType::DIM), v);
+            }
+        }
+    }
+    // One value over the box [lo, hi] (a voxel or a tile), as the sums of the value iterator.
+    void add(float v, bool is_tile, const Coord& lo, const Coord& hi) {
+        if (v >= 0.5f * float(r_f_)) return;
+        const double w = is_tile ? 1.0 : std::clamp(0.5 - v / r_f_, 0.0, 1.0);
+        if (w <= 0) return;
+        const double vox = double(openvdb::CoordBBox(lo, hi).volume());
+        const Vec3 centre = 0.5 * r_f_ * Vec3(lo[0] + hi[0], lo[1] + hi[1], lo[2] + hi[2]);
+        w_sum_ += w * vox;
+        wx_ += w * vox * centre;
+        if (v < 0) {
+            lo_ = Coord::minComponent(lo_, lo);
+            hi_ = Coord::maxComponent(hi_, hi);
+        }
+    }
+    void tile(const Coord& origin, int dim, float v) { add(v, true, origin, origin.offsetBy(dim - 1)); }
+    void leaf(const LeafT& l) {
+        if ((++leaves_ & 4095u) == 0) cancel_.poll();
+        const float* values = l.buffer().data();
+        const float cut = 0.5f * float(r_f_);
+        for (int off = 0; off < kLeafSize; ++off) {
+            if (values[off] >= cut) continue;  // the common case: outside, nothing added
+            const Coord c = l.offsetToGlobalCoord(openvdb::Index(off));
+            add(values[off], false, c, c);
+        }
+    }
+
+    double r_f_;
+    CancelToken cancel_;
+    double w_sum_ = 0;
+    Vec3 wx_ = Vec3::Zero();
+    Coord lo_ = Coord(std::numeric_limits<int>::max()), hi_ = Coord(std::numeric_limits<int>::min());
+    std::size_t leaves_ = 0;
+};
+
+void measure_fragment(const openvdb::FloatGrid& g, double r_f, Fragment& f, const CancelToken& cancel) {
+    FragmentMeasure m(r_f, cancel);
+    m.visit(g.tree());
+    m.store(f);
 }
 
 // Fragments by decreasing volume (ties by bbox corner), named fragment0, fragment1, ... in that
@@ -884,7 +948,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
         for (auto& [k, leaf] : b.leaves) leaves_of[k].push_back(std::move(leaf));
     built.clear();
     std::vector<std::vector<std::size_t>> tiles_of(count);
-    for (std::size_t t = 0; t < items.tiles().size(); ++t) tiles_of[lab.label[items.tile_base() + t]].push_back(t);
+    for (std::size_t t = 0; t < items.tiles().size(); ++t) tiles_of[std::size_t(lab.tile_label[t])].push_back(t);
 
     Fragments result;
     result.voxel_size = r_f;
