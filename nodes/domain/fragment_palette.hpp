@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 namespace cf {
 
@@ -32,8 +33,16 @@ inline Vec3 fragment_colour(std::size_t i) {
     return hsv_to_rgb(hue, sat[i % 3], i % 2 ? 0.72 : 0.92);
 }
 
-// The fracture ("inside") faces of fragment i: its colour mixed 35/65 with a pale stone grey, so
+// The fracture ("inside") faces of a piece of colour c: c mixed 35/65 with a pale stone grey, so
 // they read as the same piece but clearly apart from its outer faces.
-inline Vec3 fragment_inside_colour(std::size_t i) { return 0.35 * fragment_colour(i) + 0.65 * Vec3(0.93, 0.9, 0.84); }
+inline Vec3 inside_shade(const Vec3& c) { return 0.35 * c + 0.65 * Vec3(0.93, 0.9, 0.84); }
+inline Vec3 fragment_inside_colour(std::size_t i) { return inside_shade(fragment_colour(i)); }
+
+// The id of the region named `name` in m, or -1.
+inline int region_id(const SurfaceMesh& m, const std::string& name) {
+    for (int r = 0; r < int(m.region_names.size()); ++r)
+        if (m.region_names[std::size_t(r)] == name) return r;
+    return -1;
+}
 
 }  // namespace cf

@@ -247,6 +247,18 @@ double sample(const LevelSet& ls, const Vec3& p) {
     return s.wsSample(openvdb::Vec3d(p.x(), p.y(), p.z()));
 }
 
+std::vector<double> sample_points(const LevelSet& ls, const std::vector<Vec3>& points) {
+    const auto& g = grid_of(ls);
+    std::vector<double> values(points.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        const openvdb::FloatGrid::ConstAccessor acc = g.getConstAccessor();
+        openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> s(acc, g.transform());
+        for (std::size_t i = r.begin(); i < r.end(); ++i)
+            values[i] = s.wsSample(openvdb::Vec3d(points[i].x(), points[i].y(), points[i].z()));
+    });
+    return values;
+}
+
 Vec3 sample_gradient(const LevelSet& ls, const Vec3& p) {
     const double h = ls.voxel_size * 0.5;
     Vec3 grad;

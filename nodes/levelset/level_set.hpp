@@ -64,6 +64,9 @@ double level_set_volume(const LevelSet& ls);
 // Trilinear value [m] and gradient (central differences of the trilinear field) at a point.
 double sample(const LevelSet& ls, const Vec3& p);
 Vec3 sample_gradient(const LevelSet& ls, const Vec3& p);
+// sample() at many points (one accessor per task, in parallel); the values do not depend on the
+// thread count. Points outside the active band get the background value.
+std::vector<double> sample_points(const LevelSet& ls, const std::vector<Vec3>& points);
 std::size_t active_voxel_count(const LevelSet& ls);
 // World-space bounding box of the active voxels (empty grid: min > max).
 Box3 active_bounding_box(const LevelSet& ls);

@@ -1,7 +1,9 @@
 #include "nodes/rigid/animation_gltf.hpp"
 
 #include "graph/atomic_write.hpp"
+#include "nodes/domain/fragment_palette.hpp"
 #include "nodes/rigid/animation_checks.hpp"
+#include "nodes/rigid/piece_colours.hpp"
 
 // Debian's libtinygltf-dev ships the implementation as libtinygltf.so: only the declarations are
 // compiled here (no TINYGLTF_IMPLEMENTATION), the library is linked (nodes/rigid/CMakeLists.txt).
@@ -65,7 +67,9 @@ Vec3 corner_normal(const SurfaceMesh& m, const VertexTriangles& vt, const std::v
     return n > 0 ? Vec3(sum / n) : Vec3::UnitZ();
 }
 
-RenderMesh render_mesh(const SurfaceMesh& m) {
+// The triangles of m that are (want_inside) or are not in region `inside` (all of them when
+// inside < 0), with normals from all of m's triangles, so the parts shade alike where they meet.
+RenderMesh render_mesh(const SurfaceMesh& m, int inside, bool want_inside) {
     const VertexTriangles vt = vertex_triangles(m);
     std::vector<Vec3> unit(m.num_triangles());
     for (std::size_t t = 0; t < m.num_triangles(); ++t) unit[t] = triangle_normal(m, t);
@@ -75,6 +79,7 @@ RenderMesh render_mesh(const SurfaceMesh& m) {
     // normals round to the same floats share one output vertex.
     std::vector<std::vector<std::pair<std::array<float, 3>, std::uint32_t>>> made(m.num_vertices());
     for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        if (inside >= 0 && (m.region_of(t) == inside) != want_inside) continue;
         for (int corner : m.triangles[t]) {
             const auto v = static_cast<std::size_t>(corner);
             const Vec3 n = corner_normal(m, vt, unit, v, t);
@@ -157,27 +162,39 @@ private:
     }
 };
 
-int add_material(tinygltf::Model& model) {
+int add_material(tinygltf::Model& model, const std::string& name, const Vec3& rgb) {
     tinygltf::Material mat;
-    mat.name = "fragment";
-    mat.pbrMetallicRoughness.baseColorFactor = {0.7, 0.7, 0.7, 1.0};
+    mat.name = name;
+    mat.pbrMetallicRoughness.baseColorFactor = {rgb.x(), rgb.y(), rgb.z(), 1.0};
     mat.pbrMetallicRoughness.metallicFactor = 0.0;
     mat.pbrMetallicRoughness.roughnessFactor = 0.8;
     model.materials.push_back(std::move(mat));
     return static_cast<int>(model.materials.size()) - 1;
 }
 
-int add_mesh(GlbBuilder& b, const AnimationPiece& p, int material) {
-    const RenderMesh r = render_mesh(*p.rest_mesh);
+void add_primitive(GlbBuilder& b, tinygltf::Mesh& mesh, const RenderMesh& r, int material) {
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = b.add_floats(r.positions, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
     prim.attributes["NORMAL"] = b.add_floats(r.normals, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
     prim.indices = b.add_indices(r.indices);
     prim.material = material;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
+    mesh.primitives.push_back(std::move(prim));
+}
+
+// Piece p's mesh in its colour (material "<name>"); its fracture faces (region "inside"), if it has
+// any, in a second primitive with the inside shade of that colour (material "<name>.inside"), as in
+// the scene previews and the fragment files.
+int add_mesh(GlbBuilder& b, const AnimationPiece& p, const Vec3& colour) {
+    const SurfaceMesh& m = *p.rest_mesh;
+    const int inside = region_id(m, "inside");
+    bool has_inside = false, has_outside = m.num_triangles() == 0;
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) (inside >= 0 && m.region_of(t) == inside ? has_inside : has_outside) = true;
     tinygltf::Mesh mesh;
     mesh.name = p.name;
-    mesh.primitives.push_back(std::move(prim));
+    if (has_outside) add_primitive(b, mesh, render_mesh(m, inside, false), add_material(b.model, p.name, colour));
+    if (has_inside)
+        add_primitive(b, mesh, render_mesh(m, inside, true), add_material(b.model, p.name + ".inside", inside_shade(colour)));
     b.model.meshes.push_back(std::move(mesh));
     return static_cast<int>(b.model.meshes.size()) - 1;
 }
@@ -311,10 +328,10 @@ tinygltf::Model build_model(const Animation& a, const GltfOptions& o) {
     GlbBuilder b;
     const int pieces = static_cast<int>(a.pieces.size());
     b.model.nodes.push_back(root_node(o.up, pieces));
-    const int material = pieces > 0 ? add_material(b.model) : -1;  // an unused material would draw a validator note
+    const std::vector<Vec3> colours = scene_piece_colours(a);  // the scene previews' colours
     AnimationBuilder anim(b, a);
     for (int i = 0; i < pieces; ++i) {
-        const int mesh = add_mesh(b, a.pieces[static_cast<std::size_t>(i)], material);
+        const int mesh = add_mesh(b, a.pieces[static_cast<std::size_t>(i)], colours[static_cast<std::size_t>(i)]);
         b.model.nodes.push_back(piece_node(a, i, mesh));
         anim.add_piece(i, 1 + i);
     }

@@ -15,7 +15,10 @@
 //    POSITION (with min/max), float32 NORMAL and uint32 indices. Normals are area-weighted over the
 //    triangles around a vertex whose normals lie within 30 degrees of the corner's own triangle,
 //    so crack faces and box edges stay sharp while curved surfaces shade smoothly; a vertex is
-//    split once per distinct normal. All meshes share material 0, "fragment" (grey, rough).
+//    split once per distinct normal. Each piece has its own material, named after
+//    it, in its colour of the scene previews (scene_piece_colours); a piece whose rest mesh has
+//    fracture faces (region "inside") draws them as a second primitive with material
+//    "<name>.inside" in the inside shade of that colour (fragment_palette.hpp). Rough, not metallic.
 //  - Animation 0, "simulation": per piece a translation and a rotation sampler (LINEAR, float32)
 //    keyed at every frame time at which the piece is alive, plus a key at the first and the last
 //    frame's time holding the first / last pose when the piece is born later or dies earlier, so

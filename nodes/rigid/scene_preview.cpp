@@ -10,6 +10,8 @@
 //     reads the finished map of which piece is seen where.
 #include "nodes/rigid/scene_preview.hpp"
 
+#include "nodes/domain/fragment_palette.hpp"
+
 #include "nodes/segment/preview_render.hpp"
 
 #include <tbb/blocked_range.h>
@@ -83,6 +85,7 @@ struct ScreenTriangle {
     double area2 = 0;          // twice the pixel area (> 0)
     int x0, x1, y0, y1;        // inclusive pixel range whose centres may be inside
     float shade = 0;           // colour factor (ambient + diffuse)
+    bool inside = false;       // a fracture face (region "inside"): drawn in the piece's inside shade
 };
 
 // Orders the corners, finds the pixel range; false if the triangle covers no pixel centre (common
@@ -164,6 +167,7 @@ struct Drawable {
     std::uint32_t triangle;  // index into the rest mesh
     float shade;
     std::int32_t y0, y1;     // pixel rows
+    bool inside;             // a fracture face
 };
 struct ProjectedPiece {
     const SurfaceMesh* mesh = nullptr;
@@ -172,12 +176,13 @@ struct ProjectedPiece {
     std::vector<ScreenTriangle> clipped;    // the rare triangles cut by the near plane
     int y0 = std::numeric_limits<int>::max(), y1 = -1;  // rows of all the above
     Vec3 colour = Vec3::Zero();
+    Vec3 inside_colour = Vec3::Zero();  // of its fracture faces (fragment_palette.hpp's inside shade)
     std::string error;  // reported after the parallel loop, the first in pose order
 };
 
 // Clips the camera-space triangle, which crosses depth cam.near, there (Sutherland-Hodgman
 // against one plane: it becomes one or two triangles) and keeps what covers pixel centres.
-void clip(const Vec3 (&v)[3], float shade, const CameraFrame& cam, ProjectedPiece& out) {
+void clip(const Vec3 (&v)[3], float shade, bool inside, const CameraFrame& cam, ProjectedPiece& out) {
     Vec3 poly[4];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
@@ -191,6 +196,7 @@ void clip(const Vec3 (&v)[3], float shade, const CameraFrame& cam, ProjectedPiec
         ScreenTriangle t;
         if (!set_up(project(poly[0], cam), project(poly[k], cam), project(poly[k + 1], cam), cam, t)) continue;
         t.shade = shade;
+        t.inside = inside;
         out.clipped.push_back(t);
         out.y0 = std::min(out.y0, t.y0);
         out.y1 = std::max(out.y1, t.y1);
@@ -205,6 +211,7 @@ struct Scratch {
 void project_piece(const Animation& a, int index, const PiecePose& pose, const Vec3& colour, const CameraFrame& cam,
                    const Vec3& light, Scratch& scratch, ProjectedPiece& result) {
     result.colour = colour;
+    result.inside_colour = inside_shade(colour);
     const AnimationPiece& piece = a.pieces[std::size_t(index)];
     const std::string who = "piece " + std::to_string(index) + " ('" + piece.name + "')";
     if (!piece.rest_mesh) {
@@ -218,6 +225,7 @@ void project_piece(const Animation& a, int index, const PiecePose& pose, const V
     }
     const SurfaceMesh& mesh = *piece.rest_mesh;
     result.mesh = &mesh;
+    const int inside_region = region_id(mesh, "inside");
     const Eigen::Matrix3d rotation = pose.rotation.toRotationMatrix();
     std::vector<Vec3>& world = scratch.world;
     std::vector<Vec3>& camera = scratch.camera;
@@ -253,14 +261,15 @@ void project_piece(const Animation& a, int index, const PiecePose& pose, const V
         if (!(n.dot(cam.eye - w0) > 0)) continue;
         n.normalize();
         const float shade = float(kSceneAmbient + kSceneDiffuse * std::max(0.0, n.dot(light)));
+        const bool inside = inside_region >= 0 && mesh.region_of(t) == inside_region;
         if (in_front < 3) {
             const Vec3 v[3] = {camera[i0], camera[i1], camera[i2]};
-            clip(v, shade, cam, result);
+            clip(v, shade, inside, cam, result);
             continue;
         }
         ScreenTriangle st;
         if (!set_up(result.screen[i0], result.screen[i1], result.screen[i2], cam, st)) continue;
-        result.drawables.push_back({std::uint32_t(t), shade, st.y0, st.y1});
+        result.drawables.push_back({std::uint32_t(t), shade, st.y0, st.y1, inside});
         result.y0 = std::min(result.y0, st.y0);
         result.y1 = std::max(result.y1, st.y1);
     }
@@ -285,30 +294,6 @@ void rasterise_band(const std::vector<ProjectedPiece>& pieces, const CameraFrame
     }
 }
 
-std::uint64_t fnv1a(const std::string& s) {
-    std::uint64_t h = 14695981039346656037ull;
-    for (const char ch : s) {
-        h ^= std::uint64_t(static_cast<unsigned char>(ch));
-        h *= 1099511628211ull;
-    }
-    return h;
-}
-
-Vec3 hsv_to_rgb(double hue_degrees, double s, double v) {
-    double h = std::fmod(hue_degrees, 360.0);
-    if (h < 0) h += 360;
-    const double c = v * s, hp = h / 60, x = c * (1 - std::abs(std::fmod(hp, 2.0) - 1)), m = v - c;
-    Vec3 rgb;
-    if (hp < 1) rgb = Vec3(c, x, 0);
-    else if (hp < 2) rgb = Vec3(x, c, 0);
-    else if (hp < 3) rgb = Vec3(0, c, x);
-    else if (hp < 4) rgb = Vec3(0, x, c);
-    else if (hp < 5) rgb = Vec3(x, 0, c);
-    else rgb = Vec3(c, 0, x);
-    return rgb + Vec3::Constant(m);
-}
-
-double fraction(double x) { return x - std::floor(x); }
 
 }  // namespace
 
@@ -334,50 +319,6 @@ Vec3 scene_light_direction(const SceneCamera& c) {
     return (-1.0 * f.right + 1.0 * f.up - 1.5 * f.forward).normalized();
 }
 
-std::vector<Vec3> scene_piece_colours(const Animation& a) {
-    const std::size_t n = a.pieces.size();
-    // Each piece's original ancestor (bounded walk: a parent cycle is an error, not a hang).
-    std::vector<std::size_t> root(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::size_t r = i;
-        for (std::size_t steps = 0; a.pieces[r].parent != -1; ++steps) {
-            const int parent = a.pieces[r].parent;
-            if (parent < 0 || std::size_t(parent) >= n || steps >= n)
-                throw std::invalid_argument("piece " + std::to_string(r) + " ('" + a.pieces[r].name + "'): parent " +
-                                            std::to_string(parent) + " is out of range or part of a cycle");
-            r = std::size_t(parent);
-        }
-        root[i] = r;
-    }
-    // Originals in the order of their names' hashes take hues a golden angle apart: any few
-    // bodies are well apart (2: 137.5 degrees, 5: >= 52, 8: >= 32), which hashing each name to a
-    // hue independently would not give (6 bodies on 12 hues share one 78 % of the time).
-    std::vector<std::pair<std::uint64_t, std::size_t>> originals;
-    for (std::size_t i = 0; i < n; ++i)
-        if (root[i] == i) originals.emplace_back(fnv1a(a.pieces[i].name), i);
-    std::sort(originals.begin(), originals.end());
-    std::vector<double> hue(n, 0);
-    for (std::size_t r = 0; r < originals.size(); ++r)
-        hue[originals[r].second] = 360 * fraction(0.07 + double(r) * 0.38196601125010515180);
-    std::vector<Vec3> colours(n);
-    std::vector<std::uint64_t> fragments_so_far(n, 0);  // per original
-    constexpr double g = 1.32471795724474602596;  // plastic number, for the R2 sequence
-    for (std::size_t i = 0; i < n; ++i) {
-        const double h = hue[root[i]];
-        if (root[i] == i) {
-            colours[i] = hsv_to_rgb(h, 0.7, 0.9);
-            continue;
-        }
-        // The k-th fragment of a body (in piece order, at any depth) takes the k-th point of the
-        // R2 low-discrepancy sequence: consecutive points are well apart in hue shift, saturation
-        // and value, so no two fragments of one body look alike.
-        const double k = double(fragments_so_far[root[i]]++);
-        const double u1 = fraction(0.5 + k / g), u2 = fraction(0.5 + k / (g * g));
-        const double u3 = fraction(0.5 + k * 0.61803398874989484820);
-        colours[i] = hsv_to_rgb(h + 6.0 * (2 * u1 - 1), 0.45 + 0.4 * u3, 0.55 + 0.45 * u2);
-    }
-    return colours;
-}
 
 namespace {
 
@@ -520,11 +461,13 @@ std::vector<unsigned char> shade_pixels(const std::vector<ProjectedPiece>& per_p
                     const ProjectedPiece& piece = per_piece[std::size_t(o.slot)];
                     const double shade = o.item >= 0 ? piece.drawables[std::size_t(o.item)].shade
                                                      : piece.clipped[std::size_t(-1 - o.item)].shade;
+                    const bool inside = o.item >= 0 ? piece.drawables[std::size_t(o.item)].inside
+                                                    : piece.clipped[std::size_t(-1 - o.item)].inside;
                     auto other = [&](std::size_t q) { return depth.owner[q].slot != o.slot; };
                     const bool edge = (x > 0 && other(p - 1)) || (x + 1 < width && other(p + 1)) ||
                                       (y > 0 && other(p - std::size_t(width))) ||
                                       (y + 1 < height && other(p + std::size_t(width)));
-                    rgb = (shade * piece.colour).cwiseMin(1.0).cwiseMax(0.0) * (edge ? kSceneOutline : 1.0);
+                    rgb = (shade * (inside ? piece.inside_colour : piece.colour)).cwiseMin(1.0).cwiseMax(0.0) * (edge ? kSceneOutline : 1.0);
                 } else {
                     rgb = backdrop.colour(backdrop.ray(x, y));
                 }

@@ -6,6 +6,7 @@
 // not depend on the thread count (oneTBB bands of rows, each pixel written by one task).
 // SI units: m; angles in degrees where named so.
 #include "nodes/rigid/animation.hpp"
+#include "nodes/rigid/piece_colours.hpp"
 
 #include <cstddef>
 #include <filesystem>
@@ -48,15 +49,6 @@ void render_scene_preview(const Animation& a, std::size_t f, const SceneCamera& 
 
 // ---- shading, public so tests can compute the expected pixel by hand ---------------------------
 
-// Base colour of every piece (RGB in [0, 1]), a function of the pieces' names, parents and order
-// (the same in every frame and run; adding or renaming a body may change the others'). Original
-// bodies, ordered by an FNV-1a hash of their names, take hues a golden angle (137.5 degrees)
-// apart, at saturation 0.7 and value 0.9. A fragment takes its original ancestor's hue shifted by
-// at most 6 degrees and its own saturation in [0.45, 0.85] and value in [0.55, 1] (the k-th
-// fragment of a body, in piece order, from the k-th point of a low-discrepancy sequence: no two
-// alike), so fragments read as shades of their body. Throws std::invalid_argument naming a piece
-// whose parent is out of range or part of a cycle.
-std::vector<Vec3> scene_piece_colours(const Animation& a);
 
 // Unit vector towards the light, fixed to the camera: normalise(-1 right + 1 up + 1.5 back), i.e.
 // from the camera's upper left. A face with unit normal n (outward, facing the camera) is drawn in

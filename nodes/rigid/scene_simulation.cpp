@@ -1,5 +1,7 @@
 #include "nodes/rigid/scene_simulation.hpp"
 
+#include "nodes/segment/fracture_faces.hpp"
+
 #include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
 #include "nodes/domain/mesh_topology.hpp"
@@ -411,6 +413,7 @@ struct SceneSimulation::Impl {
         try {
             BreakableModel bm = make_breakable_model(model.settings, f.grid, model.original_volume,
                                                      cls == PieceClass::large ? model.bem_mesh : nullptr, f.volume);
+            bm.authored = model.authored.empty() ? model.object : model.authored;
             if (cls == PieceClass::large) {  // the parent's BEM mesh, so its operators and factor too (ch. 7.3 (d))
                 bm.surface_blocks = model.surface_blocks;
                 bm.surface_factor = model.surface_factor;
@@ -460,7 +463,9 @@ struct SceneSimulation::Impl {
 
         PreparedFragment out;
         const Eigen::Isometry3d material_to_world = body_to_world(s) * parent.material_to_body;
-        const SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
+        SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
+        tag_fracture_faces(material_mesh, model.authored.empty() ? model.object : model.authored,
+                           kFractureFaceDepthVoxels * model.object.voxel_size);
         const FragmentBody fb = fragment_body(material_mesh, f.volume, model.settings->material.rho, material_to_world,
                                               RigidMotion{s.position, s.velocity, s.angular_velocity});
 

@@ -54,6 +54,10 @@ struct FractureSettings {
 struct BreakableModel {
     std::shared_ptr<const FractureSettings> settings;
     LevelSet object;                        // voxel size r_f
+    // The authored body's object (same material frame and r_f; empty: `object` is it): its
+    // fragments' faces deeper inside it are fracture faces (region "inside", fracture_faces.hpp),
+    // whichever generation made them.
+    LevelSet authored;
     std::shared_ptr<const SurfaceMesh> bem_mesh;
     std::vector<double> curvature;          // |H| per BEM triangle [1/m] (Hertz radius)
     double volume = 0;                      // level-set volume [m^3]

@@ -1,6 +1,7 @@
 #include "nodes/segment/fragment_mesher.hpp"
 
 #include "nodes/segment/fragment_cells.hpp"
+#include "nodes/segment/fracture_faces.hpp"
 #include "nodes/segment/surface_fragments.hpp"
 
 #include <stdexcept>
@@ -31,7 +32,9 @@ SurfaceMesh FragmentMesher::mesh(std::size_t i, std::string* warning) const {
         if (clipper_->clip(cells_->cell_mesh(i, o_.adaptivity), m, &problem)) return m;
         if (warning) *warning = "fragment " + std::to_string(i) + ": " + problem + "; written as its level-set mesh";
     }
-    return level_set_to_mesh(f_.fragments[i].grid, o_.adaptivity);
+    SurfaceMesh m = level_set_to_mesh(f_.fragments[i].grid, o_.adaptivity);
+    if (!f_.object.empty()) tag_fracture_faces(m, f_.object, kFractureFaceDepthVoxels * f_.voxel_size);
+    return m;
 }
 
 }  // namespace cf

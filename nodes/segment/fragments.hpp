@@ -27,6 +27,9 @@ struct Fragments {
     double threshold = 0;   // s [m] used
     bool used_tiles = true;
     std::vector<Fragment> fragments;
+    // The uncut object (segment.fragments sets it; may be empty): the level-set mesher tells fracture
+    // faces from outer faces by it (fracture_faces.hpp).
+    LevelSet object;
 };
 
 // Broken object, eq. (6.1): max(Phi_o, -min_c Phi_c). Throws std::invalid_argument naming the

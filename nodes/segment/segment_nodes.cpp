@@ -45,6 +45,7 @@ graph::NodeType fragments_node() {
             const double s = c.real("s");
             if (s < 0 && s != -1) c.fail("parameter 's': " + graph::format_number(s) + " m is negative; use -1 for s = r_f or a value in [0, r_f]");
             f = find_fragments(broken, SegmentOptions{s, c.boolean("tiles")});
+            f.object = object;
             double dropped_volume = 0;
             c.count("dropped_fragments", double(drop_small_fragments(f, c.real("min_volume"), &dropped_volume)));
             c.count("dropped_volume_m3", dropped_volume);

@@ -7,6 +7,8 @@
 #include "nodes/export/number_text.hpp"
 #include "nodes/rigid/animation_checks.hpp"
 #include "nodes/rigid/animation_gltf.hpp"
+#include "nodes/domain/fragment_palette.hpp"
+#include "nodes/rigid/piece_colours.hpp"
 #include "nodes/rigid/transform_cache.hpp"
 #include "nodes/shape/box.hpp"
 #include "nodes/shape/icosphere.hpp"
@@ -121,6 +123,22 @@ Animation synthetic_animation() {
         if (f >= kBreakFrame)
             for (int k = 0; k < 2; ++k) frame.poses.emplace_back(2 + k, halves[std::size_t(k)].at(frame.time));
         a.frames.push_back(std::move(frame));
+    }
+    return a;
+}
+
+// The synthetic scene with each half's cut face (the face looking towards the other half) in the
+// region "inside", as a fracture run's fragments have their fracture faces.
+Animation fractured_animation() {
+    Animation a = synthetic_animation();
+    for (std::size_t i : {std::size_t(2), std::size_t(3)}) {
+        auto m = std::make_shared<SurfaceMesh>(*a.pieces[i].rest_mesh);
+        const double towards = i == 2 ? 1.0 : -1.0;  // box.0 is the -x half, its cut face looks along +x
+        m->region.assign(m->num_triangles(), 0);
+        m->region_names = {"outside", "inside"};
+        for (std::size_t t = 0; t < m->num_triangles(); ++t)
+            if (triangle_normal(*m, t).x() * towards > 0.99) m->region[t] = 1;
+        a.pieces[i].rest_mesh = m;
     }
     return a;
 }
@@ -294,12 +312,50 @@ TEST(AnimationGltf, KhronosValidatorReportsNoErrors) {
     empty.frames.resize(2);
     empty.frames[1].time = 0.04;
     write_animation_glb(empty, d / "empty.glb");
-    for (const char* name : {"scene.glb", "scene_y_up.glb", "empty.glb"}) {
+    write_animation_glb(fractured_animation(), d / "fractured.glb");
+    for (const char* name : {"scene.glb", "scene_y_up.glb", "empty.glb", "fractured.glb"}) {
         const CommandResult r = run_command(validator + " " + shell_quote((d / name).string()));
         std::cout << r.output;  // the summary and any warnings, for the test log
         EXPECT_EQ(r.exit_code, 0) << r.output;
         EXPECT_NE(r.output.find(": 0 errors"), std::string::npos) << r.output;
     }
+}
+
+// Fracture faces (region "inside") are a second primitive in the inside shade of the piece's
+// colour: box.0 and box.1 each have one cut face (2 triangles of a once-subdivided box face).
+TEST(AnimationGltf, FractureFacesAreASecondPrimitiveInTheInsideShade) {
+    const fs::path d = test_dir();
+    const Animation a = fractured_animation();
+    write_animation_glb(a, d / "fractured.glb");
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model m;
+    std::string err, warn;
+    ASSERT_TRUE(loader.LoadBinaryFromFile(&m, &err, &warn, (d / "fractured.glb").string())) << err;
+    const std::vector<Vec3> colours = scene_piece_colours(a);
+    std::size_t materials = 0;
+    for (std::size_t i = 0; i < a.pieces.size(); ++i) {
+        const SurfaceMesh& rest = *a.pieces[i].rest_mesh;
+        const int inside = region_id(rest, "inside");
+        std::size_t inside_triangles = 0;
+        for (std::size_t t = 0; t < rest.num_triangles(); ++t) inside_triangles += inside >= 0 && rest.region_of(t) == inside;
+        const tinygltf::Mesh& mesh = m.meshes[std::size_t(m.nodes[1 + i].mesh)];
+        ASSERT_EQ(mesh.primitives.size(), inside_triangles ? 2u : 1u) << a.pieces[i].name;
+        materials += mesh.primitives.size();
+        auto check = [&](const tinygltf::Primitive& prim, const std::string& name, const Vec3& rgb, std::size_t triangles) {
+            const tinygltf::Material& mat = m.materials[std::size_t(prim.material)];
+            EXPECT_EQ(mat.name, name);
+            for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(mat.pbrMetallicRoughness.baseColorFactor[std::size_t(k)], rgb[k]);
+            EXPECT_EQ(m.accessors[std::size_t(prim.indices)].count, 3 * triangles) << name;
+        };
+        const std::string& name = a.pieces[i].name;
+        check(mesh.primitives[0], name, colours[i], rest.num_triangles() - inside_triangles);
+        if (inside_triangles) {
+            EXPECT_EQ(inside_triangles, 2u) << name;
+            check(mesh.primitives[1], name + ".inside", inside_shade(colours[i]), inside_triangles);
+        }
+    }
+    EXPECT_EQ(m.materials.size(), materials);
+    EXPECT_EQ(materials, a.pieces.size() + 2);
 }
 
 // tinygltf's own loader: the structure the header promises (names, hierarchy, extras, keys).
@@ -330,9 +386,15 @@ TEST(AnimationGltf, StructureAsDocumented) {
         EXPECT_EQ(n.extras.Get("volume").GetNumberAsDouble(), p.volume);
         EXPECT_EQ(n.extras.Get("mass").GetNumberAsDouble(), p.mass);
         EXPECT_EQ(n.extras.Get("class").Get<std::string>(), piece_class_name(p.piece_class));
-        EXPECT_EQ(m.meshes[std::size_t(n.mesh)].primitives[0].material, 0);
+        // One material per piece, named after it, in its scene-preview colour (no fracture faces here).
+        const tinygltf::Mesh& mesh = m.meshes[std::size_t(n.mesh)];
+        ASSERT_EQ(mesh.primitives.size(), 1u);
+        const tinygltf::Material& mat = m.materials[std::size_t(mesh.primitives[0].material)];
+        EXPECT_EQ(mat.name, p.name);
+        const Vec3 rgb = scene_piece_colours(a)[i];
+        for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(mat.pbrMetallicRoughness.baseColorFactor[std::size_t(k)], rgb[k]);
     }
-    EXPECT_EQ(m.materials.size(), 1u);
+    EXPECT_EQ(m.materials.size(), a.pieces.size());
     ASSERT_EQ(m.animations.size(), 1u);
     const tinygltf::Animation& anim = m.animations[0];
     EXPECT_EQ(anim.name, "simulation");

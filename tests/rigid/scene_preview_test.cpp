@@ -4,6 +4,7 @@
 // squares; near-plane clipping; identical bytes for repeated runs and 1 or 2 threads; camera
 // problems named; the PNG file.
 #include "nodes/rigid/scene_preview.hpp"
+#include "nodes/domain/fragment_palette.hpp"
 #include "nodes/shape/box.hpp"
 #include "nodes/shape/icosphere.hpp"
 
@@ -179,6 +180,26 @@ TEST(ScenePreview, UnitCubeFaceOnCoversThePinholeSquareInItsShadedColour) {
     for (const auto& [x, y] : {std::pair{0, 0}, {639, 0}, {0, 479}, {639, 479}})
         EXPECT_TRUE(same_pixel(image, sky, c, x, y)) << x << ", " << y;
     EXPECT_GT(pixel(sky, c, 0, 0).b - pixel(sky, c, 0, 0).r, pixel(sky, c, 0, 479).b - pixel(sky, c, 0, 479).r);
+}
+
+// A fracture face (region "inside") is drawn in the inside shade of the piece's colour, the rest of
+// the piece in the colour itself: the cube seen from +x with its +x face's upper half tagged.
+TEST(ScenePreview, FractureFacesAreDrawnInTheInsideShade) {
+    auto m = std::make_shared<SurfaceMesh>(*cube());
+    m->region.assign(m->num_triangles(), 0);
+    m->region_names = {"outside", "inside"};
+    for (std::size_t t = 0; t < m->num_triangles(); ++t)
+        if (triangle_normal(*m, t).x() > 0.99 && triangle_centroid(*m, t).z() > 0) m->region[t] = 1;
+    Animation a;
+    add_piece(a, "cube", m);
+    a.frames.resize(1);
+    a.frames[0].poses.emplace_back(0, at(Vec3::Zero()));
+    const SceneCamera c = from_plus_x(4);
+    const std::vector<unsigned char> image = render(a, 0, c);
+    const double n_dot_light = 1.5 / std::sqrt(4.25);  // face normal +x, as in the face-on test
+    const Vec3 colour = scene_piece_colours(a)[0];
+    expect_near(pixel(image, c, 320, 200), expected_shade(inside_shade(colour), n_dot_light), 1, "upper half: inside");
+    expect_near(pixel(image, c, 320, 280), expected_shade(colour, n_dot_light), 1, "lower half: outside");
 }
 
 TEST(ScenePreview, PieceWithoutPoseInTheFrameIsNotDrawn) {

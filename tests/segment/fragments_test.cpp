@@ -3,6 +3,8 @@
 #include "nodes/levelset/crack_grids.hpp"
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/segment/fragments.hpp"
+#include "nodes/segment/fracture_faces.hpp"
+#include "nodes/segment/fragment_mesher.hpp"
 #include "nodes/segment/levelset_verification.hpp"
 #include "tests/harness/expect_error.hpp"
 #include "tests/levelset/test_meshes.hpp"
@@ -11,6 +13,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -45,6 +48,44 @@ TEST(VerificationCase, spindle_removed) {
     const VerificationResult r = verify_spindle_removed();
     EXPECT_TRUE(r.passed) << r.details << " error " << r.error << " tol " << r.tolerance;
     std::cout << "[case 11] " << r.details << "; error " << r.error << " (bar " << r.tolerance << ")\n";
+}
+
+// The level-set mesher's fracture faces: a unit cube cut at z = 0.031 by a plane crack. Each half's
+// dual-contoured mesh has the 1 m^2 section as its fracture face (region "inside") and its part of
+// the cube's surface as the rest: bottom or top (1 m^2) plus four side strips of heights
+// 0.5 +- z - t (t = sqrt(3) r_f / 2, the thickened crack's half gap). Bounds: the crack faces within
+// half a voxel of the cube's sides read as outside (a strip 0.5 r_f wide along the 4 m of the
+// section's rim), and dual contouring rounds the rims by about a voxel: 4 m x 1.5 r_f.
+TEST(Fragments, LevelSetMeshesTellFractureFacesFromTheObjectsSurface) {
+    const double z = 0.031, t = std::sqrt(3.0) * kRf / 2;
+    const LevelSet obj = cube();
+    Fragments f = find_fragments(broken_object(obj, {kRf, 3, {planar_disk_crack(Vec3(0, 0, z), Vec3::UnitZ(), 1, kRf)}}));
+    ASSERT_EQ(f.fragments.size(), 2u);
+    f.object = obj;
+    const FragmentMesher mesher(f, FragmentMesherOptions{});
+    const double rim = 4 * 1.5 * kRf;
+    const double side_heights[2] = {0.5 + z - t, 0.5 - z - t};  // lower (largest) then upper half
+    for (std::size_t i = 0; i < 2; ++i) {
+        const SurfaceMesh m = mesher.mesh(i);
+        ASSERT_EQ(m.region_names, (std::vector<std::string>{"outside", "inside"}));
+        EXPECT_TRUE(std::is_sorted(m.region.begin(), m.region.end())) << "outside faces first, then inside ones";
+        EXPECT_NEAR(region_area(m, "inside"), 1.0, rim) << "fragment " << i;
+        EXPECT_NEAR(region_area(m, "outside"), 1.0 + 4 * side_heights[i], rim) << "fragment " << i;
+        // Every inside face lies in the crack's gap, every outside face on the cube's surface.
+        for (std::size_t k = 0; k < m.num_triangles(); ++k) {
+            const Vec3 c = triangle_centroid(m, k);
+            if (m.region_of(k) == 1) EXPECT_NEAR(std::abs(c.z() - z), t, 0.5 * kRf) << "face " << k;
+            else EXPECT_LT(0.5 - c.cwiseAbs().maxCoeff(), 0.75 * kRf) << "face " << k;
+        }
+    }
+    // Without cracks the object is one fragment with no fracture faces.
+    Fragments whole = find_fragments(obj);
+    whole.object = obj;
+    ASSERT_EQ(whole.fragments.size(), 1u);
+    EXPECT_EQ(region_area(FragmentMesher(whole, FragmentMesherOptions{}).mesh(0), "inside"), 0.0);
+    SurfaceMesh m = FragmentMesher(whole, FragmentMesherOptions{}).mesh(0);
+    EXPECT_THROW(tag_fracture_faces(m, obj, 0), std::invalid_argument);
+    EXPECT_THROW(tag_fracture_faces(m, obj, std::nan("")), std::invalid_argument);
 }
 
 TEST(Fragments, PlanarCutVolumesCentroidsAndBoxesMatchTheHalves) {
