@@ -43,6 +43,7 @@ std::vector<View> sheet_views(const SheetOptions& o) {
 
 constexpr double kAmbient = 0.3, kDiffuse = 0.7, kOutline = 0.7;
 const Vec3 kBackground(0.93, 0.94, 0.96);
+const Vec3 kCutAwayGrey(0.78, 0.78, 0.8);  // the object's far walls behind the cracks
 
 // One view drawn into its own buffers (z-buffer, piece id, colour), then outlined.
 struct ViewImage {
@@ -102,30 +103,33 @@ void outline(ViewImage& img, const CancelToken& cancel) {
     img.colour = std::move(out);
 }
 
-int inside_region_of(const SurfaceMesh& m) {
-    for (int r = 0; r < int(m.region_names.size()); ++r)
-        if (m.region_names[std::size_t(r)] == "inside") return r;
-    return -1;
-}
+// One mesh of a sheet: where it is drawn, in which colours, which of its faces.
+struct SheetItem {
+    const SurfaceMesh* mesh = nullptr;
+    Vec3 shift = Vec3::Zero();   // [m] added to its vertices (the explode)
+    Vec3 colour, inside_colour;  // of its faces, and of those in the region "inside"
+    bool back_faces = false;     // draw the faces turned away from the camera (lit from behind) instead of the front ones
+};
 
-ViewImage render_view(const std::vector<SurfaceMesh>& meshes, const std::vector<Vec3>& shift, const Vec3& centre,
-                      double pixels_per_metre, const View& v, int w, int h, const CancelToken& cancel) {
+ViewImage render_view(const std::vector<SheetItem>& items, const Vec3& centre, double pixels_per_metre, const View& v,
+                      int w, int h, const CancelToken& cancel) {
     ViewImage img(w, h);
     const Vec3 light = (-1.0 * v.r + 1.0 * v.u + 1.5 * v.d).normalized();
-    for (std::size_t i = 0; i < meshes.size(); ++i) {
+    for (std::size_t i = 0; i < items.size(); ++i) {
         cancel.poll();
-        const SurfaceMesh& m = meshes[i];
-        const int inside = inside_region_of(m);
-        const Vec3 outer_rgb = fragment_colour(i), inside_rgb = fragment_inside_colour(i);
+        const SheetItem& item = items[i];
+        const SurfaceMesh& m = *item.mesh;
+        const int inside = region_id(m, "inside");
+        const double facing = item.back_faces ? -1 : 1;
         for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-            const Vec3 n = triangle_normal(m, t);
-            if (!(n.dot(v.d) > 0)) continue;  // closed meshes: back faces are hidden
+            const Vec3 n = facing * triangle_normal(m, t);
+            if (!(n.dot(v.d) > 0)) continue;  // closed meshes: back faces are hidden (or, cut away, the front ones)
             std::array<Vec3, 3> s;
             for (int k = 0; k < 3; ++k) {
-                const Vec3 q = m.vertices[std::size_t(m.triangles[t][k])] + shift[i] - centre;
+                const Vec3 q = m.vertices[std::size_t(m.triangles[t][k])] + item.shift - centre;
                 s[k] = Vec3(0.5 * w + q.dot(v.r) * pixels_per_metre, 0.5 * h - q.dot(v.u) * pixels_per_metre, q.dot(v.d));
             }
-            const Vec3 base = inside >= 0 && m.region_of(t) == inside ? inside_rgb : outer_rgb;
+            const Vec3 base = inside >= 0 && m.region_of(t) == inside ? item.inside_colour : item.colour;
             const Vec3 rgb = (base * (kAmbient + kDiffuse * std::max(0.0, n.dot(light)))).cwiseMin(1.0);
             draw_triangle(img, s, (static_cast<long long>(i) << 32) | static_cast<long long>(t), rgb, cancel);
         }
@@ -134,13 +138,7 @@ ViewImage render_view(const std::vector<SurfaceMesh>& meshes, const std::vector<
     return img;
 }
 
-}  // namespace
-
-std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>& meshes,
-                                                 const std::vector<Vec3>& centroids, const SheetOptions& o,
-                                                 int* sheet_width, int* sheet_height) {
-    if (meshes.empty()) throw std::invalid_argument("no fragments to render");
-    if (centroids.size() != meshes.size()) throw std::invalid_argument("one centroid per fragment mesh is needed");
+void check_sheet_options(const SheetOptions& o) {
     if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
         throw std::invalid_argument("preview size must be between 16 and 8192 pixels per side");
     PreviewOptions camera;
@@ -148,20 +146,21 @@ std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>&
     camera.view = o.view;
     if (const std::string problem = preview_camera_problem(camera); !problem.empty())
         throw std::invalid_argument("preview camera: " + problem);
+}
+
+// The sheet of `items`, framed on the items whose `frame` flag is set.
+std::vector<unsigned char> render_sheet(const std::vector<SheetItem>& items, const std::vector<bool>& frame,
+                                        const SheetOptions& o, int* sheet_width, int* sheet_height) {
     const CancelToken cancel = CancelToken::current();
-    Vec3 c = Vec3::Zero();
-    for (const Vec3& p : centroids) c += p;
-    c /= double(centroids.size());
-    std::vector<Vec3> shift(meshes.size());
-    for (std::size_t i = 0; i < meshes.size(); ++i) shift[i] = o.explode * (centroids[i] - c);
     // The scene's centre and radius after the explode: one scale for every view.
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (std::size_t i = 0; i < meshes.size(); ++i)
-        for (const Vec3& p : meshes[i].vertices) {
-            lo = lo.cwiseMin(p + shift[i]);
-            hi = hi.cwiseMax(p + shift[i]);
-        }
-    if (!(lo.allFinite() && hi.allFinite())) throw std::invalid_argument("the fragment meshes have no vertices");
+    for (std::size_t i = 0; i < items.size(); ++i)
+        if (frame[i])
+            for (const Vec3& p : items[i].mesh->vertices) {
+                lo = lo.cwiseMin(p + items[i].shift);
+                hi = hi.cwiseMax(p + items[i].shift);
+            }
+    if (!(lo.allFinite() && hi.allFinite())) throw std::invalid_argument("the meshes to preview have no vertices");
     const Vec3 centre = 0.5 * (lo + hi);
     const double radius = std::max(0.5 * (hi - lo).norm(), 1e-300);
     const int cols = o.contact_sheet ? 2 : 1, W = o.width, H = o.height, vw = W / cols, vh = H / cols;
@@ -169,7 +168,7 @@ std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>&
     const std::vector<View> views = sheet_views(o);
     std::vector<ViewImage> images(views.size(), ViewImage(1, 1));
     tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t k) {
-        images[k] = render_view(meshes, shift, centre, scale, views[k], vw, vh, cancel);
+        images[k] = render_view(items, centre, scale, views[k], vw, vh, cancel);
     });
     // An odd width or height leaves a last column or row of background.
     std::vector<unsigned char> rgb(std::size_t(W) * std::size_t(H) * 3);
@@ -191,6 +190,54 @@ std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>&
     if (sheet_width) *sheet_width = W;
     if (sheet_height) *sheet_height = H;
     return rgb;
+}
+
+}  // namespace
+
+std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>& meshes,
+                                                 const std::vector<Vec3>& centroids, const SheetOptions& o,
+                                                 int* sheet_width, int* sheet_height) {
+    if (meshes.empty()) throw std::invalid_argument("no fragments to render");
+    if (centroids.size() != meshes.size()) throw std::invalid_argument("one centroid per fragment mesh is needed");
+    check_sheet_options(o);
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& p : centroids) c += p;
+    c /= double(centroids.size());
+    std::vector<SheetItem> items(meshes.size());
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        items[i].mesh = &meshes[i];
+        items[i].shift = o.explode * (centroids[i] - c);
+        items[i].colour = fragment_colour(i);
+        items[i].inside_colour = fragment_inside_colour(i);
+    }
+    return render_sheet(items, std::vector<bool>(items.size(), true), o, sheet_width, sheet_height);
+}
+
+std::vector<unsigned char> render_crack_sheet(const SurfaceMesh& object, const std::vector<SurfaceMesh>& cracks,
+                                              const SheetOptions& o, int* sheet_width, int* sheet_height) {
+    check_sheet_options(o);
+    std::vector<SheetItem> items;
+    SheetItem far_walls;
+    far_walls.mesh = &object;
+    far_walls.colour = far_walls.inside_colour = kCutAwayGrey;
+    far_walls.back_faces = true;
+    items.push_back(far_walls);
+    for (std::size_t i = 0; i < cracks.size(); ++i) {
+        SheetItem crack;
+        crack.mesh = &cracks[i];
+        crack.colour = crack.inside_colour = fragment_colour(i);
+        items.push_back(crack);
+    }
+    std::vector<bool> frame(items.size(), false);
+    frame[0] = true;  // the same framing at every step: the object's
+    return render_sheet(items, frame, o, sheet_width, sheet_height);
+}
+
+void write_crack_sheet(const std::filesystem::path& png, const SurfaceMesh& object, const std::vector<SurfaceMesh>& cracks,
+                       const SheetOptions& o) {
+    int w = 0, h = 0;
+    const std::vector<unsigned char> rgb = render_crack_sheet(object, cracks, o, &w, &h);
+    write_png_rgb(png, w, h, rgb.data());
 }
 
 void write_fragment_sheet(const std::filesystem::path& png, const std::vector<SurfaceMesh>& meshes,

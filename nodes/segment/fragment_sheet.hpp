@@ -31,4 +31,16 @@ std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>&
 void write_fragment_sheet(const std::filesystem::path& png, const std::vector<SurfaceMesh>& meshes,
                           const std::vector<Vec3>& centroids, const SheetOptions& options);
 
+// A fracture step at a glance (issue 14's per-step preview): the same four views of the object cut
+// away — only its far walls drawn (faces turned away from the camera, pale grey), so what is inside
+// shows — and the crack surfaces in front of them, crack i in fragment_colour(i). Framed on the
+// object, so the images of a run's steps line up. `object`: any closed outward mesh of the object
+// (the BEM surface); `cracks`: one closed mesh per crack (the shell of its recorded level set).
+// Throws std::invalid_argument for an object without vertices or a bad size or camera.
+std::vector<unsigned char> render_crack_sheet(const SurfaceMesh& object, const std::vector<SurfaceMesh>& cracks,
+                                              const SheetOptions& options, int* sheet_width = nullptr,
+                                              int* sheet_height = nullptr);
+void write_crack_sheet(const std::filesystem::path& png, const SurfaceMesh& object, const std::vector<SurfaceMesh>& cracks,
+                       const SheetOptions& options);
+
 }  // namespace cf

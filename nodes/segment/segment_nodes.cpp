@@ -6,6 +6,7 @@
 #include "nodes/vec3_param.hpp"
 #include "nodes/bem/solver.hpp"
 #include "nodes/segment/fragment_export.hpp"
+#include "nodes/segment/fragment_sheet.hpp"
 #include "nodes/segment/fragments.hpp"
 
 #include <iostream>
@@ -245,11 +246,64 @@ graph::NodeType export_fragments_node() {
     return t;
 }
 
+// A preview image per fracture step (issue 14): the cracks' recorded surfaces inside the cut-away
+// object, so a run's growth can be watched step by step without a VTK viewer.
+graph::NodeType step_preview_node() {
+    graph::NodeType t("export.step_preview",
+                      "Writes a PNG of the cracks at this step: four views (the oblique 'view', front, side, top) of "
+                      "the object cut away (only its far walls drawn, pale grey) with every crack's recorded "
+                      "high-resolution surface in front of them, crack i in fragment colour i. Framed on the object, "
+                      "so a run's images line up. Inside a fracture loop it writes every step ('{iteration}' in the "
+                      "path); path 'none' writes nothing.");
+    t.input<SurfaceMesh>("surface", "the object's surface (the BEM mesh), closed and outward oriented");
+    t.input<CrackLevelSets>("cracks", "the crack grids of this step (fracture.geometry's 'grids')");
+    t.param_string("path", "preview_{iteration}.png",
+                   "PNG file relative to the run's output directory; '{iteration}' becomes the loop iteration; "
+                   "'none': no file (the node does nothing)")
+        .writes_file();
+    t.param_real("adaptivity", 0.5, "", "mesh adaptivity of the crack surfaces in [0, 1]: 0 keeps every polygon")
+        .range(0, 1);
+    t.param_bool("contact_sheet", true, "four views in one PNG (the oblique 'view', front, side, top)");
+    t.param_int("width", 640, "width [pixels] (the contact sheet's views are half of it)").range(16, 8192);
+    t.param_int("height", 480, "height [pixels] (the contact sheet's views are half of it)").range(16, 8192);
+    t.param_reals("up", {0, 0, 1}, "", "the scene's vertical, drawn upwards (0 1 0 for most imported meshes)").size(3);
+    t.param_reals("view", {0.5, -1.2, 0.7}, "",
+                  "direction from the object's centre to the camera (any length, not parallel to up)")
+        .size(3);
+    t.run([](graph::NodeContext& c) {
+        if (c.string("path") == "none") return;
+        const SurfaceMesh& object = c.in<SurfaceMesh>("surface");
+        const CrackLevelSets& grids = c.in<CrackLevelSets>("cracks");
+        std::vector<SurfaceMesh> cracks;
+        for (const LevelSet& g : grids.cracks)
+            if (!g.empty()) cracks.push_back(level_set_to_mesh(g, c.real("adaptivity")));
+        SheetOptions o;
+        o.width = int(c.integer("width"));
+        o.height = int(c.integer("height"));
+        o.contact_sheet = c.boolean("contact_sheet");
+        o.up = vec3_param(c, "up");
+        o.view = vec3_param(c, "view");
+        const std::filesystem::path png = c.output_path(c.string("path"));
+        try {
+            write_crack_sheet(png, object, cracks, o);
+        } catch (const std::invalid_argument& e) {
+            c.fail(std::string("parameters 'width' / 'height' / 'up' / 'view' or input 'surface': ") + e.what());
+        } catch (const std::runtime_error& e) {
+            c.fail("parameter 'path' (" + png.string() + "): " + e.what());
+        }
+        std::size_t triangles = 0;
+        for (const SurfaceMesh& m : cracks) triangles += m.num_triangles();
+        c.count("crack_triangles", double(triangles));
+    });
+    return t;
+}
+
 }  // namespace
 
 void register_segment_nodes(graph::NodeRegistry& r) {
     r.add(fragments_node());
     r.add(export_fragments_node());
+    r.add(step_preview_node());
 }
 
 }  // namespace cf

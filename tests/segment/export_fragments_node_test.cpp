@@ -152,5 +152,26 @@ TEST(ExportFragmentsNode, ValidationNamesTheInputsTheDisplacementOptionsNeed) {
               std::string::npos) << all;
 }
 
+// export.step_preview: a PNG per loop iteration of the recorded cracks (here one plane crack across
+// the unit cube), nothing with path 'none', and a bad camera named by its parameters.
+TEST(StepPreviewNode, WritesThePngItIsToldToAndNothingForNone) {
+    const auto dir = temp_dir("step-preview");
+    const SurfaceMesh cube = testmesh::box(Vec3::Constant(-0.5), Vec3::Constant(0.5));
+    const Inputs in{{"surface", value(cube)}, {"cracks", value(cut().cracks)}};
+    const auto r = run_node("export.step_preview", {{"path", std::string("step_{iteration}.png")}}, in, dir);
+    EXPECT_TRUE(std::filesystem::exists(dir / "step_0000.png"));
+    EXPECT_GT(r.counts.at("crack_triangles"), 100.0);
+    const auto none = temp_dir("step-preview-none");
+    run_node("export.step_preview", {{"path", std::string("none")}}, in, none);
+    EXPECT_TRUE(std::filesystem::is_empty(none));
+    try {
+        run_node("export.step_preview", {{"up", std::vector<double>{0, 1, 0}}, {"view", std::vector<double>{0, 2, 0}}}, in,
+                 temp_dir("step-preview-bad"));
+        ADD_FAILURE() << "a view parallel to up was accepted";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("'view'"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace cf::testing

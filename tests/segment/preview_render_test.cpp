@@ -3,6 +3,8 @@
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/segment/fragments.hpp"
 #include "nodes/segment/preview_render.hpp"
+#include "nodes/domain/fragment_palette.hpp"
+#include "nodes/segment/fragment_sheet.hpp"
 #include "tests/levelset/test_meshes.hpp"
 
 #include <gtest/gtest.h>
@@ -75,6 +77,40 @@ TEST(PreviewRender, ViewParallelToUpOrZeroIsRejected) {
     o.up = Vec3::Zero();
     EXPECT_THROW(render_fragments_preview(png, column(), o), std::invalid_argument);
     EXPECT_FALSE(std::filesystem::exists(png));
+}
+
+// The per-step crack preview: a unit cube seen along +y (one view, 200 x 200 pixels) with a thin
+// crack slab |x|, |z| <= 0.3, |y| <= 0.01 in it. The cube's near wall is cut away, so the centre shows
+// the crack's front face in crack 0's colour; between the crack and the cube's rim the far wall
+// (y = +0.5, drawn from inside) shows in grey; outside the cube the background. Hand values: view
+// d = (0, -1, 0), up u = z, right r = x; light = (-r + u + 1.5 d) / |.| = (-1, -1.5, 1) / sqrt(4.25);
+// both faces seen face -y, n.light = 1.5 / sqrt(4.25); shade = 0.3 + 0.7 n.light. Scale: 0.48 x 200
+// pixels over the cube's half diagonal sqrt(3)/2 m, so the cube spans +-55.4 pixels, the crack +-33.3.
+TEST(CrackSheet, CrackShowsThroughTheCutAwayObjectInItsColour) {
+    const SurfaceMesh cube = testmesh::box(Vec3::Constant(-0.5), Vec3::Constant(0.5));
+    const std::vector<SurfaceMesh> cracks{testmesh::box(Vec3(-0.3, -0.01, -0.3), Vec3(0.3, 0.01, 0.3))};
+    SheetOptions o;
+    o.width = o.height = 200;
+    o.contact_sheet = false;
+    o.view = Vec3(0, -1, 0);
+    int w = 0, h = 0;
+    const std::vector<unsigned char> rgb = render_crack_sheet(cube, cracks, o, &w, &h);
+    ASSERT_EQ(w, 200);
+    ASSERT_EQ(h, 200);
+    const double shade = 0.3 + 0.7 * 1.5 / std::sqrt(4.25);
+    auto expect_pixel = [&](int x, int y, const Vec3& colour, const char* what) {
+        const unsigned char* px = &rgb[(std::size_t(y) * 200 + std::size_t(x)) * 3];
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(px[k], std::lround(255 * std::min(1.0, colour[k])), 1) << what << " channel " << k;
+    };
+    expect_pixel(100, 100, shade * fragment_colour(0), "crack");
+    expect_pixel(100 + 45, 100, shade * Vec3(0.78, 0.78, 0.8), "far wall");
+    expect_pixel(100, 100 - 45, shade * Vec3(0.78, 0.78, 0.8), "far wall above the crack");
+    expect_pixel(100 + 70, 100, Vec3(0.93, 0.94, 0.96), "background");
+    // Without cracks only the far walls; an empty object is refused.
+    const std::vector<unsigned char> empty = render_crack_sheet(cube, {}, o);
+    const unsigned char* px = &empty[(100 * 200 + 100) * 3];
+    EXPECT_NEAR(px[0], std::lround(255 * shade * 0.78), 1);
+    EXPECT_THROW(render_crack_sheet(SurfaceMesh{}, cracks, o), std::invalid_argument);
 }
 
 }  // namespace
