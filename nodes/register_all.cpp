@@ -42,6 +42,7 @@ const std::vector<VerificationCase>& verification_cases() {
         add_estimator_pipeline_cases(c);
         add_rigid_verification_cases(c);
         add_scene_verification_cases(c);
+        add_remesh_verification_cases(c);
         std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
         return c;
     }();

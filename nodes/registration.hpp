@@ -37,6 +37,7 @@ void add_estimate_verification_cases(std::vector<VerificationCase>& cases);  // 
 void add_estimator_pipeline_cases(std::vector<VerificationCase>& cases);  // nodes/estimator_verification.cpp: 19-21
 void add_rigid_verification_cases(std::vector<VerificationCase>& cases);  // nodes/rigid: cases 23-25 (ch. 7)
 void add_scene_verification_cases(std::vector<VerificationCase>& cases);  // nodes/scene_verification.cpp: 26-28
+void add_remesh_verification_cases(std::vector<VerificationCase>& cases);  // nodes/remesh_verification.cpp: rigid_translation_remeshed
 void add_fracture_verification_cases(std::vector<VerificationCase>& cases);  // nodes/fracture_verification.cpp: case 8
 
 }  // namespace cf

@@ -284,13 +284,17 @@ Box3 active_bounding_box(const LevelSet& ls) {
     return b;
 }
 
-SurfaceMesh level_set_to_mesh(const LevelSet& ls, double adaptivity) {
+SurfaceMesh level_set_to_mesh(const LevelSet& ls, double adaptivity, double isovalue) {
     if (!(adaptivity >= 0 && adaptivity <= 1))
         throw std::invalid_argument("mesh adaptivity must lie in [0, 1], got " + graph::format_number(adaptivity));
+    // The cells around the iso-surface need defined values on both sides: one voxel of band.
+    if (!(std::abs(isovalue) <= (ls.half_width - 1) * ls.voxel_size))
+        throw std::invalid_argument("iso-value " + graph::format_number(isovalue) + " m lies outside the narrow band less a voxel (" +
+                                    graph::format_number((ls.half_width - 1) * ls.voxel_size) + " m)");
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> tris;
     std::vector<openvdb::Vec4I> quads;
-    openvdb::tools::volumeToMesh(grid_of(ls), points, tris, quads, 0.0, adaptivity);
+    openvdb::tools::volumeToMesh(grid_of(ls), points, tris, quads, isovalue, adaptivity);
     SurfaceMesh m;
     m.vertices.reserve(points.size());
     for (const auto& p : points) m.vertices.emplace_back(p.x(), p.y(), p.z());

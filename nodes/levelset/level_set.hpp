@@ -71,9 +71,11 @@ std::size_t active_voxel_count(const LevelSet& ls);
 // World-space bounding box of the active voxels (empty grid: min > max).
 Box3 active_bounding_box(const LevelSet& ls);
 
-// Dual-contoured surface (OpenVDB volumeToMesh) at the zero level, triangles only, outward
-// oriented. adaptivity in [0, 1]: 0 keeps every polygon, 1 merges flat regions most.
-SurfaceMesh level_set_to_mesh(const LevelSet& ls, double adaptivity = 0);
+// Dual-contoured surface (OpenVDB volumeToMesh) at the level `isovalue` [m] (0: the surface; > 0:
+// the surface offset outward by that distance, which must stay a voxel inside the narrow band),
+// triangles only, outward oriented. adaptivity in [0, 1]: 0 keeps every polygon, 1 merges flat
+// regions most.
+SurfaceMesh level_set_to_mesh(const LevelSet& ls, double adaptivity = 0, double isovalue = 0);
 
 // Writes named grids into one .vdb file atomically (readable by Houdini and Blender).
 void write_vdb(const std::filesystem::path& path, const std::vector<std::pair<std::string, LevelSet>>& grids);

@@ -4,6 +4,7 @@
 #include "graph/cancel_token.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -25,5 +26,21 @@ std::vector<std::pair<int, int>> self_intersecting_pairs(const SurfaceMesh& mesh
 // new vertices. Returns the number of holes filled. Throws std::runtime_error if a hole cannot
 // be filled.
 std::size_t fill_holes(SurfaceMesh& mesh, const CancelToken& cancel = CancelToken::current());
+
+}  // namespace cf
+
+namespace cf {
+
+// Isotropic remeshing (Botsch-Kobbelt: split edges longer than 4/3 L, collapse those shorter than
+// 4/5 L, flip towards valence 6, tangential relaxation, projection onto `mesh` as it was given)
+// with target edge length `edge_length` [m], `iterations` rounds. Edges whose dihedral is below
+// `feature_dihedral_deg` (180 = flat, see mesh_quality.hpp) are kept as polylines that vertices
+// move along, so box edges stay straight, unless their dihedral is below `fold_dihedral_deg` (a fold,
+// not a feature). Vertices are projected by `project` (the closest point of
+// the surface the mesh stands for), or, if it is empty, onto `mesh` as given. The input must be a
+// closed manifold oriented mesh.
+SurfaceMesh isotropic_remesh(const SurfaceMesh& mesh, double edge_length, int iterations, double feature_dihedral_deg,
+                             double fold_dihedral_deg, const std::function<Vec3(const Vec3&)>& project = {},
+                             const CancelToken& cancel = CancelToken::current());
 
 }  // namespace cf

@@ -5,10 +5,12 @@
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/simplify/degenerate_cleanup.hpp"
 #include "nodes/simplify/mesh_repair.hpp"
+#include "nodes/simplify/quality_repair.hpp"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -158,6 +160,83 @@ void check_remesh_memory(const LevelSet& object) {
     }
 }
 
+namespace {
+
+// The offset surface {phi = offset} of `object` as a level set and iso-value within its band. The
+// offset is taken on the signed distance field, not by moving mesh vertices: an exact distance
+// offset cannot fold, while moving the vertices of QEM's needles along their normals folded them
+// onto their neighbours (issue 13). Offsets reaching beyond the band are taken in steps, each
+// re-distanced from the contour of the previous one.
+struct OffsetSurface {
+    LevelSet rebuilt;  // used when the offset exceeds the band
+    const LevelSet* grid = nullptr;
+    double iso = 0;  // [m]
+};
+
+OffsetSurface offset_surface(const LevelSet& object, double offset) {
+    OffsetSurface s;
+    s.grid = &object;
+    s.iso = offset;
+    const double reach = (object.half_width - 1.5) * object.voxel_size;
+    while (s.iso > reach) {
+        const SurfaceMesh shell = without_unused_vertices(level_set_to_mesh(*s.grid, 0, reach));
+        LevelSet next = level_set_from_mesh(shell, object.voxel_size, object.half_width);
+        s.rebuilt = std::move(next);
+        s.grid = &s.rebuilt;
+        s.iso -= reach;
+    }
+    return s;
+}
+
+// Closest point of the iso-surface by Newton steps along the gradient (a signed distance field has
+// |grad| = 1 near the surface, so two or three steps reach it to a small fraction of a voxel).
+Vec3 project_to(const LevelSet& grid, double iso, Vec3 p) {
+    for (int i = 0; i < 4; ++i) {
+        const double f = sample(grid, p) - iso;
+        const Vec3 g = sample_gradient(grid, p);
+        const double gg = g.squaredNorm();
+        if (!(gg > 0.25)) break;  // outside the band or at a medial point: keep the point
+        p -= f / gg * g;
+        if (std::abs(f) < 1e-3 * grid.voxel_size) break;
+    }
+    return p;
+}
+
+// `m` without its edge-connected shells whose bounding-box diagonal is below `size` [m]; `dropped`
+// counts them.
+SurfaceMesh without_small_shells(const SurfaceMesh& m, double size, std::size_t& dropped) {
+    const std::vector<int> comp = triangle_components(m);
+    const int n = comp.empty() ? 0 : *std::max_element(comp.begin(), comp.end()) + 1;
+    std::vector<Box3> box(std::size_t(n), Box3{Vec3::Constant(std::numeric_limits<double>::infinity()),
+                                               Vec3::Constant(-std::numeric_limits<double>::infinity())});
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (int v : m.triangles[t]) {
+            box[comp[t]].min = box[comp[t]].min.cwiseMin(m.vertices[v]);
+            box[comp[t]].max = box[comp[t]].max.cwiseMax(m.vertices[v]);
+        }
+    std::vector<char> keep(static_cast<std::size_t>(n), 0);
+    dropped = 0;
+    for (int c = 0; c < n; ++c) {
+        keep[c] = box[c].extent().norm() >= size;
+        dropped += keep[c] ? 0 : 1;
+    }
+    if (dropped == 0) return m;
+    SurfaceMesh out;
+    out.vertices = m.vertices;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        if (keep[comp[t]]) out.triangles.push_back(m.triangles[t]);
+    return without_unused_vertices(out);
+}
+
+std::string fmt3(double x) {
+    std::ostringstream os;
+    os.precision(3);
+    os << x;
+    return os.str();
+}
+
+}  // namespace
+
 RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt, const CancelToken& cancel) {
     if (opt.target_triangles < 4)
         throw std::invalid_argument("target triangle count must be at least 4, got " + std::to_string(opt.target_triangles));
@@ -165,7 +244,8 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt, const Canc
         throw std::invalid_argument("offset must be a non-negative number of voxels, got " + graph::format_number(opt.offset_voxels));
     check_remesh_memory(object);
     RemeshResult res;
-    SurfaceMesh dense = without_unused_vertices(level_set_to_mesh(object, opt.adaptivity));
+    const OffsetSurface surface = offset_surface(object, opt.offset_voxels * object.voxel_size);
+    SurfaceMesh dense = without_unused_vertices(level_set_to_mesh(*surface.grid, opt.adaptivity, surface.iso));
     cancel.poll();  // between the stages; the simplification polls on its own
     res.dense_triangles = dense.num_triangles();
     if (dense.triangles.empty()) throw std::runtime_error("the level set has no surface to mesh");
@@ -173,33 +253,113 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt, const Canc
     if (!dense_topo.is_closed_manifold())
         throw std::runtime_error("the dual-contoured mesh is not a closed manifold (" + dense_topo.describe() +
                                  "); try a smaller voxel size");
+    // A shell smaller than one element (a voxel-sized bubble where the offset surfaces of two close
+    // parts of the object meet, or a speck) cannot be meshed at the target size without folds.
+    const double element_edge = std::sqrt(4 * surface_area(dense) / (std::sqrt(3.0) * double(opt.target_triangles)));
+    dense = without_small_shells(dense, element_edge, res.dropped_shells);
+    if (dense.triangles.empty())
+        throw std::runtime_error("every shell of the surface is smaller than one element of the target size (" + fmt3(element_edge) +
+                                 " m); raise target_triangles");
     if (dense.num_triangles() < opt.target_triangles)
         throw std::invalid_argument("target of " + std::to_string(opt.target_triangles) +
                                     " triangles exceeds the dual-contoured mesh (" + std::to_string(dense.num_triangles()) +
                                     " triangles); lower the target or the voxel size");
-    SurfaceMesh mesh = without_unused_vertices(simplify_to_count(dense, opt.target_triangles, cancel));
+    // QEM keeps the shape (sharp edges, thin parts) but not the element shape: on flat faces and
+    // rounded edges the plane quadrics vanish or coincide and it leaves needles and caps (down to
+    // 0.04 degrees, folded onto their neighbours). So it stops at a few times the target, and
+    // isotropic remeshing makes the elements, projecting every vertex onto the offset surface of
+    // the distance field (QEM's own folds are not followed), its edge length set from the area and
+    // corrected until the count fits.
+    const std::size_t mid_count = std::min(dense.num_triangles(), kRemeshQemOversampling * opt.target_triangles);
+    const SurfaceMesh mid = without_unused_vertices(simplify_to_count(dense, mid_count, cancel));
+    const double dense_volume = signed_volume(dense);
+    dense = SurfaceMesh{};
     cancel.poll();
-    offset_along_normals(mesh, opt.offset_voxels * object.voxel_size);
-    // QEM on flat faces leaves zero-area caps and needles (all plane quadrics vanish there);
-    // hole filling in the repair can leave more: both are removed before the final check.
-    auto clean = [&] {
-        const DegenerateCleanup c = remove_degenerate_triangles(mesh);
-        res.sliver_flips += c.flips;
-        res.sliver_collapses += c.collapses;
+    // The element-shape repair runs on each candidate (it may collapse or split a few edges), then
+    // exact self-intersection repair (which fills holes with new triangles) and the repair again:
+    // all keep the mesh closed, manifold and oriented.
+    const QualityBounds bounds{opt.min_angle_deg, opt.min_dihedral_deg};
+    double projection_iso = surface.iso;  // moved out with the volume correction below
+    const SurfaceProjection project = [&](const Vec3& p) { return project_to(*surface.grid, projection_iso, p); };
+    struct Counters {
+        std::size_t sliver_flips = 0, sliver_collapses = 0, flips = 0, collapses = 0, moves = 0, splits = 0;
     };
-    clean();
+    auto clean = [&](SurfaceMesh& m, Counters& n) {
+        const DegenerateCleanup c = remove_degenerate_triangles(m);
+        n.sliver_flips += c.flips;
+        n.sliver_collapses += c.collapses;
+        const QualityRepair q = improve_quality(m, bounds, project);
+        n.flips += q.flips;
+        n.collapses += q.collapses;
+        n.moves += q.moves;
+        n.splits += q.splits;
+    };
+    const double area = surface_area(mid);
+    double edge = std::sqrt(4 * area / (std::sqrt(3.0) * double(opt.target_triangles)));
+    SurfaceMesh mesh;
+    Counters counters;
+    double best_error = std::numeric_limits<double>::infinity(), best_iso = surface.iso;
+    for (int attempt = 0; attempt < 4; ++attempt) {
+        projection_iso = surface.iso;
+        SurfaceMesh candidate = isotropic_remesh(mid, edge, kRemeshIsotropicIterations, kRemeshFeatureDihedralDeg, opt.min_dihedral_deg, project,
+                                                 cancel);
+        // With every vertex on the surface, the chords of curved parts cut inside it (by h^2 / 8R:
+        // 10 % of the chain link's volume at 288 triangles), and the BEM surface would lie inside
+        // the object the offset is meant to enclose. Moving every vertex out by the mean gap
+        // (V_dense - V) / A restores the enclosed volume, as QEM's placement did; the repair then
+        // projects onto that shifted iso-surface.
+        // Where the shifted mesh cannot meet the bounds (the armadillo's claws, thinner than an
+        // element), the mesh on the surface is taken.
+        const double gap = (dense_volume - signed_volume(candidate)) / surface_area(candidate);
+        SurfaceMesh on_surface = candidate;
+        offset_along_normals(candidate, gap);
+        projection_iso = surface.iso + gap;
+        Counters n;
+        clean(candidate, n);
+        const MeshQuality shifted = measure_quality(candidate, opt.min_angle_deg, opt.min_dihedral_deg);
+        if (shifted.angles_below + shifted.dihedrals_below > 0) {
+            candidate = std::move(on_surface);
+            projection_iso = surface.iso;
+            n = Counters{};
+            clean(candidate, n);
+        }
+        const double ratio = double(candidate.num_triangles()) / double(opt.target_triangles);
+        if (std::abs(ratio - 1) < best_error) {
+            best_error = std::abs(ratio - 1);
+            mesh = std::move(candidate);
+            counters = n;
+            best_iso = projection_iso;
+        }
+        if (best_error <= 0.02) break;
+        edge *= std::sqrt(ratio);  // the count goes with 1 / edge^2
+    }
+    projection_iso = best_iso;
     res.self_intersections_before = self_intersecting_pairs(mesh, cancel).size();
     cancel.poll();
     if (res.self_intersections_before > 0) {
         res.repair_rounds = repair_self_intersections(mesh, opt.max_repair_rounds);
-        clean();
+        clean(mesh, counters);
     }
+    res.sliver_flips = counters.sliver_flips;
+    res.sliver_collapses = counters.sliver_collapses;
+    res.quality_flips = counters.flips;
+    res.quality_collapses = counters.collapses;
+    res.quality_moves = counters.moves;
+    res.quality_splits = counters.splits;
     res.self_intersections_after = self_intersecting_pairs(mesh, cancel).size();
     const MeshTopologyReport topo = check_topology(mesh);
     if (!topo.is_closed_manifold() || res.self_intersections_after > 0)
         throw std::runtime_error("remeshing could not meet its guarantees: " + topo.describe() + ", " +
                                  std::to_string(res.self_intersections_after) + " self-intersecting pairs left");
     if (!(signed_volume(mesh) > 0)) throw std::runtime_error("remeshed surface is inward oriented");
+    res.quality = measure_quality(mesh, opt.min_angle_deg, opt.min_dihedral_deg);
+    if (res.quality.angles_below > 0 || res.quality.dihedrals_below > 0)
+        throw std::runtime_error(
+            "remeshing could not meet its element-shape bounds (min_angle " + fmt3(opt.min_angle_deg) + " deg, min_dihedral " +
+            fmt3(opt.min_dihedral_deg) + " deg): " + std::to_string(res.quality.angles_below) + " triangles and " +
+            std::to_string(res.quality.dihedrals_below) + " edges below them, " + describe(res.quality) +
+            "; raise target_triangles (smaller elements follow thin parts), lower the voxel size of the level set, or "
+            "lower min_angle / min_dihedral");
     res.mesh = std::move(mesh);
     return res;
 }

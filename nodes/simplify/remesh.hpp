@@ -1,11 +1,15 @@
 #pragma once
 // Coarse BEM mesh from an object level set (thesis ch. 6.1, App. A items 13-14): dual
-// contouring (OpenVDB volumeToMesh) -> QEM simplification to a target triangle count ->
-// vertices moved outward by k voxels along the vertex normals -> zero-area slivers flipped or
-// collapsed -> self-intersecting pairs found, their one-ring deleted and the holes filled. The result is checked: closed, manifold,
-// consistently oriented, no self-intersections.
+// contouring (OpenVDB volumeToMesh) of the iso-surface k voxels outside (the offset taken on the
+// distance field) -> shells smaller than one element dropped -> QEM simplification to 4x the
+// target -> isotropic remeshing to the target count, vertices projected onto that iso-surface ->
+// zero-area slivers and then every angle / dihedral below its bound repaired (quality_repair.hpp)
+// -> self-intersecting pairs found, their one-ring deleted, the holes filled and repaired again.
+// The result is checked: closed, manifold, consistently oriented, no self-intersections, every
+// angle >= min_angle_deg and every dihedral >= min_dihedral_deg; otherwise remesh() throws.
 #include "nodes/domain/surface_mesh.hpp"
 #include "nodes/levelset/level_set.hpp"
+#include "nodes/simplify/mesh_quality.hpp"
 
 namespace cf {
 
@@ -14,7 +18,15 @@ struct RemeshOptions {
     double offset_voxels = 1;             // App. A item 14: outward offset in multiples of r_f
     double adaptivity = 0;                // dual-contouring adaptivity of the dense mesh, [0, 1]
     int max_repair_rounds = 6;            // each round deletes a wider neighbourhood
+    double min_angle_deg = 15;            // every triangle angle at least this [degrees]
+    double min_dihedral_deg = 30;         // every dihedral between neighbours at least this (flat: 180) [degrees]
 };
+
+// QEM stops at this many times the target before isotropic remeshing makes the elements.
+constexpr std::size_t kRemeshQemOversampling = 4;
+constexpr int kRemeshIsotropicIterations = 5;
+// Edges whose dihedral is below this are kept as feature lines by the isotropic remeshing [deg].
+constexpr double kRemeshFeatureDihedralDeg = 120;
 
 struct RemeshResult {
     SurfaceMesh mesh;
@@ -24,6 +36,12 @@ struct RemeshResult {
     int repair_rounds = 0;
     std::size_t sliver_flips = 0;      // zero-area caps removed by an edge flip
     std::size_t sliver_collapses = 0;  // zero-area needles removed by an edge collapse
+    std::size_t quality_flips = 0;      // element-shape repair (quality_repair.hpp)
+    std::size_t quality_collapses = 0;
+    std::size_t quality_moves = 0;
+    std::size_t quality_splits = 0;
+    std::size_t dropped_shells = 0;  // closed pieces smaller than one element, left out
+    MeshQuality quality;  // measured on the result: min angle, min dihedral
 };
 
 // Throws std::invalid_argument for a target below 4 triangles or a negative offset, and

@@ -15,10 +15,14 @@ namespace {
 
 graph::NodeType remesh_node() {
     graph::NodeType t("simplify.remesh",
-                      "Coarse BEM mesh from the object level set: dual contouring, QEM simplification to a target "
-                      "triangle count (Garland-Heckbert), self-intersection repair (delete one-ring, fill holes), "
-                      "outward offset along vertex normals (ch. 6.1, App. A items 13-14). Guarantees a closed, "
-                      "manifold, oriented mesh without self-intersections; the count within 5 % of the target.");
+                      "Coarse BEM mesh from the object level set: dual contouring of the surface offset outward on the "
+                      "distance field (ch. 6.1, App. A items 13-14), QEM simplification (Garland-Heckbert) to four times "
+                      "the target, isotropic remeshing to the target count with vertices projected onto the offset "
+                      "surface, element-shape repair (flips, collapses, splits, vertex moves), self-intersection repair "
+                      "(delete one-ring, fill holes). Guarantees a closed, manifold, oriented mesh without "
+                      "self-intersections, every triangle angle >= min_angle and every dihedral between neighbours >= "
+                      "min_dihedral, the count within 5 % of the target; fails naming the bound otherwise. Shells "
+                      "smaller than one element are left out (counter dropped_shells).");
     t.input<LevelSet>("level_set", "object signed distance grid");
     t.optional_input<SurfaceMesh>("regions_from",
                                   "the fine mesh the level set was made from (e.g. import.mesh with face groups): each "
@@ -27,6 +31,12 @@ graph::NodeType remesh_node() {
     t.param_int("target_triangles", 1000, "target triangle count (App. A item 13)").range(4, 10000000);
     t.param_real("offset_voxels", 1, "voxels", "outward offset in multiples of r_f (App. A item 14)").range(0, 3);
     t.param_real("adaptivity", 0, "", "adaptivity of the dense dual-contoured mesh, [0, 1]").range(0, 1);
+    t.param_real("min_angle", 15, "degrees", "smallest triangle angle the result must have; the node fails if repair cannot reach it")
+        .range(1, 40);
+    t.param_real("min_dihedral", 30, "degrees",
+                 "smallest dihedral between neighbouring triangles (180 = flat, 0 = folded back) the result must have; the "
+                 "node fails if repair cannot reach it")
+        .range(1, 120);
     t.param_string("regions", "",
                    "boundary regions by half-spaces (nodes/regions spec, e.g. as for regions.halfspace); with "
                    "'regions_from' they are applied on top (unmatched triangles keep the carried region); empty: the "
@@ -37,11 +47,13 @@ graph::NodeType remesh_node() {
         o.target_triangles = std::size_t(c.integer("target_triangles"));
         o.offset_voxels = c.real("offset_voxels");
         o.adaptivity = c.real("adaptivity");
+        o.min_angle_deg = c.real("min_angle");
+        o.min_dihedral_deg = c.real("min_dihedral");
         RemeshResult r;
         try {
             r = remesh(c.in<LevelSet>("level_set"), o);
         } catch (const std::exception& e) {
-            c.fail(e.what());
+            c.fail(std::string(e.what()));
         }
         SurfaceMesh mesh = std::move(r.mesh);
         mesh.region_names = {"surface"};
@@ -74,6 +86,14 @@ graph::NodeType remesh_node() {
         c.count("repair_rounds", r.repair_rounds);
         c.count("sliver_flips", double(r.sliver_flips));
         c.count("sliver_collapses", double(r.sliver_collapses));
+        c.count("shape_flips", double(r.quality_flips));
+        c.count("shape_collapses", double(r.quality_collapses));
+        c.count("shape_splits", double(r.quality_splits));
+        c.count("shape_moves", double(r.quality_moves));
+        c.count("dropped_shells", double(r.dropped_shells));
+        // Measured on the result (the guarantee, not a count of repairs): degrees.
+        c.count("min_angle_deg", r.quality.min_angle_deg);
+        c.count("min_dihedral_deg", r.quality.min_dihedral_deg);
         count_region_stats(c, mesh);
         c.out("mesh", std::move(mesh));
     });
