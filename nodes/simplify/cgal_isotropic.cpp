@@ -4,7 +4,8 @@
 #include "nodes/simplify/mesh_repair.hpp"
 #include "nodes/simplify/cgal_surface_mesh.hpp"
 
-#include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
 #include <cmath>
@@ -26,22 +27,36 @@ struct ProjectVertex {
 }  // namespace
 
 SurfaceMesh isotropic_remesh(const SurfaceMesh& in, double edge_length, int iterations, double feature_dihedral_deg,
-                             double fold_dihedral_deg, const std::function<Vec3(const Vec3&)>& project, const CancelToken& cancel) {
+                             double fold_dihedral_deg, bool bevels, const std::function<Vec3(const Vec3&)>& project,
+                             const CancelToken& cancel) {
     namespace PMP = CGAL::Polygon_mesh_processing;
     using cgal_mesh::Mesh;
     Mesh mesh = cgal_mesh::to_cgal(in, "isotropic remeshing");
-    // detect_sharp_edges takes the angle between the face normals: 180 - dihedral.
     auto feature = mesh.add_property_map<Mesh::Edge_index, bool>("e:feature", false).first;
-    if (feature_dihedral_deg > 0) PMP::detect_sharp_edges(mesh, 180.0 - feature_dihedral_deg, feature);
+    // Features: edges sharper than `feature_dihedral_deg`, and with `bevels` edges of a narrow bevel (a rounded
+    // box edge of radius ~r_f, which QEM leaves as a strip of two 135-degree edges): dihedral below
+    // 150 degrees with a turning radius (mean height of the two triangles over the edge divided by
+    // the turning angle) below a quarter of the target edge length. Smooth curvature (the bunny's
+    // back at 4x the target count) turns as much only over a radius of elements.
     // An edge sharper than `fold_dihedral_deg` is a fold QEM left (a needle turned over its
     // neighbour), not a feature to keep: left free, it is remeshed and projected away.
     for (auto e : mesh.edges()) {
-        if (!feature[e]) continue;
         const auto h = mesh.halfedge(e);
-        const auto n1 = PMP::compute_face_normal(mesh.face(h), mesh);
-        const auto n2 = PMP::compute_face_normal(mesh.face(mesh.opposite(h)), mesh);
-        const double angle = std::atan2(std::sqrt(CGAL::cross_product(n1, n2).squared_length()), n1 * n2) * 180 / CGAL_PI;
-        if (180 - angle < fold_dihedral_deg) feature[e] = false;
+        if (mesh.is_border(e)) continue;
+        const auto f1 = mesh.face(h), f2 = mesh.face(mesh.opposite(h));
+        const auto n1 = PMP::compute_face_normal(f1, mesh);
+        const auto n2 = PMP::compute_face_normal(f2, mesh);
+        const double turn = std::atan2(std::sqrt(CGAL::cross_product(n1, n2).squared_length()), n1 * n2);
+        const double dihedral = 180 - turn * 180 / CGAL_PI;
+        if (dihedral < fold_dihedral_deg) continue;
+        if (dihedral < feature_dihedral_deg) {
+            feature[e] = true;
+            continue;
+        }
+        if (!bevels || dihedral >= 150) continue;
+        const double len = std::sqrt(CGAL::squared_distance(mesh.point(mesh.source(h)), mesh.point(mesh.target(h))));
+        const double heights = (PMP::face_area(f1, mesh) + PMP::face_area(f2, mesh)) / len;  // mean height (h1 + h2) / 2
+        feature[e] = len > 0 && heights / turn < 0.25 * edge_length;
     }
     cancel.poll();  // a few rounds on a few thousand triangles take milliseconds
     auto np = CGAL::parameters::number_of_iterations(unsigned(iterations))

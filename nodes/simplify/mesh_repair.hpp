@@ -36,11 +36,12 @@ namespace cf {
 // with target edge length `edge_length` [m], `iterations` rounds. Edges whose dihedral is below
 // `feature_dihedral_deg` (180 = flat, see mesh_quality.hpp) are kept as polylines that vertices
 // move along, so box edges stay straight, unless their dihedral is below `fold_dihedral_deg` (a fold,
-// not a feature). Vertices are projected by `project` (the closest point of
+// not a feature); with `bevels` also the edges of narrow bevels (dihedral below 150 degrees turning
+// within a quarter of `edge_length`: a box edge rounded to a voxel). Vertices are projected by `project` (the closest point of
 // the surface the mesh stands for), or, if it is empty, onto `mesh` as given. The input must be a
 // closed manifold oriented mesh.
 SurfaceMesh isotropic_remesh(const SurfaceMesh& mesh, double edge_length, int iterations, double feature_dihedral_deg,
-                             double fold_dihedral_deg, const std::function<Vec3(const Vec3&)>& project = {},
+                             double fold_dihedral_deg, bool bevels, const std::function<Vec3(const Vec3&)>& project = {},
                              const CancelToken& cancel = CancelToken::current());
 
 }  // namespace cf

@@ -39,11 +39,9 @@ SurfaceMesh without_unused_vertices(const SurfaceMesh& m) {
     return out;
 }
 
-void offset_along_normals(SurfaceMesh& mesh, double distance) {
-    // Angle-weighted (pseudo-)normals: they do not depend on how a flat face or a crease is
-    // triangulated, so the collinear vertices QEM leaves along a box edge all move alike and
-    // stay collinear. Area weighting moved them by different amounts and folded the thin
-    // triangles there into slivers and self-intersections.
+namespace {
+// Angle-weighted (pseudo-)normals, unit (zero where every incident triangle is degenerate).
+std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh) {
     std::vector<Vec3> normal(mesh.vertices.size(), Vec3::Zero());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Vec3 n = triangle_normal(mesh, t);  // unit; zero for a sliver
@@ -54,10 +52,19 @@ void offset_along_normals(SurfaceMesh& mesh, double distance) {
             normal[f[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * n;
         }
     }
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        const double len = normal[v].norm();
-        if (len > 0) mesh.vertices[v] += distance / len * normal[v];
-    }
+    for (Vec3& n : normal)
+        if (n.norm() > 0) n.normalize();
+    return normal;
+}
+}  // namespace
+
+void offset_along_normals(SurfaceMesh& mesh, double distance) {
+    // Angle-weighted (pseudo-)normals: they do not depend on how a flat face or a crease is
+    // triangulated, so the collinear vertices QEM leaves along a box edge all move alike and
+    // stay collinear. Area weighting moved them by different amounts and folded the thin
+    // triangles there into slivers and self-intersections.
+    const std::vector<Vec3> normal = vertex_normals(mesh);
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) mesh.vertices[v] += distance * normal[v];
 }
 
 namespace {
@@ -228,6 +235,33 @@ SurfaceMesh without_small_shells(const SurfaceMesh& m, double size, std::size_t&
     return without_unused_vertices(out);
 }
 
+// Moves every vertex of a mesh whose vertices lie on the iso-surface {phi = iso} outward so that
+// its triangles straddle the surface instead of cutting inside it: with the corners on a surface of
+// curvature kappa, a triangle's depth below it at barycentric b is kappa/2 sum b_i b_j |e_ij|^2,
+// whose mean over the triangle is 3/4 of its value at the centroid; each vertex moves by 3/4 of the
+// mean centroid depth of its triangles (0 on flat faces). Returns the mean shift [m].
+double straddle_surface(SurfaceMesh& m, const LevelSet& grid, double iso) {
+    const double cap = (grid.half_width - 1) * grid.voxel_size;  // beyond the band phi is clamped
+    std::vector<double> sum(m.vertices.size(), 0.0);
+    std::vector<int> count(m.vertices.size(), 0);
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const double depth = std::clamp(iso - sample(grid, triangle_centroid(m, t)), -cap, cap);
+        for (int v : m.triangles[t]) {
+            sum[v] += depth;
+            ++count[v];
+        }
+    }
+    const std::vector<Vec3> normal = vertex_normals(m);
+    double total = 0;
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+        if (count[v] == 0) continue;
+        const double shift = 0.75 * sum[v] / count[v];
+        m.vertices[v] += shift * normal[v];
+        total += shift;
+    }
+    return m.vertices.empty() ? 0 : total / double(m.vertices.size());
+}
+
 std::string fmt3(double x) {
     std::ostringstream os;
     os.precision(3);
@@ -299,30 +333,49 @@ RemeshResult remesh(const LevelSet& object, const RemeshOptions& opt, const Canc
     SurfaceMesh mesh;
     Counters counters;
     double best_error = std::numeric_limits<double>::infinity(), best_iso = surface.iso;
-    for (int attempt = 0; attempt < 4; ++attempt) {
-        projection_iso = surface.iso;
-        SurfaceMesh candidate = isotropic_remesh(mid, edge, kRemeshIsotropicIterations, kRemeshFeatureDihedralDeg, opt.min_dihedral_deg, project,
-                                                 cancel);
-        // With every vertex on the surface, the chords of curved parts cut inside it (by h^2 / 8R:
-        // 10 % of the chain link's volume at 288 triangles), and the BEM surface would lie inside
-        // the object the offset is meant to enclose. Moving every vertex out by the mean gap
-        // (V_dense - V) / A restores the enclosed volume, as QEM's placement did; the repair then
-        // projects onto that shifted iso-surface.
-        // Where the shifted mesh cannot meet the bounds (the armadillo's claws, thinner than an
-        // element), the mesh on the surface is taken.
-        const double gap = (dense_volume - signed_volume(candidate)) / surface_area(candidate);
-        SurfaceMesh on_surface = candidate;
-        offset_along_normals(candidate, gap);
-        projection_iso = surface.iso + gap;
+    for (int attempt = 0; attempt < 6; ++attempt) {
+        // Two candidates: feature lines at sharp edges only, and also at narrow bevels (box edges
+        // rounded to a voxel, which the first rounds off by an element); the one meeting the
+        // bounds whose volume is closest to the dense contour's is taken.
+        SurfaceMesh candidate;
         Counters n;
-        clean(candidate, n);
-        const MeshQuality shifted = measure_quality(candidate, opt.min_angle_deg, opt.min_dihedral_deg);
-        if (shifted.angles_below + shifted.dihedrals_below > 0) {
-            candidate = std::move(on_surface);
+        double candidate_iso = surface.iso, candidate_score = std::numeric_limits<double>::infinity();
+        for (const bool bevels : {false, true}) {
             projection_iso = surface.iso;
-            n = Counters{};
-            clean(candidate, n);
+            SurfaceMesh m = isotropic_remesh(mid, edge, kRemeshIsotropicIterations, kRemeshFeatureDihedralDeg, opt.min_dihedral_deg,
+                                             bevels, project, cancel);
+            // With every vertex on the surface, the chords of curved parts cut inside it (by h^2 / 8R:
+            // 10 % of the chain link's volume at 288 triangles), and the BEM surface would lie inside
+            // the object the offset is meant to enclose. Moving the vertices out so the triangles
+            // straddle the surface restores the enclosed volume, shell by shell, as QEM's placement
+            // did; the repair then projects onto the iso-surface shifted by the mean of that move.
+            // Where the shifted mesh cannot meet the bounds (the armadillo's claws, thinner than an
+            // element), the mesh on the surface is taken.
+            for (const bool straddle : {true, false}) {
+                SurfaceMesh c = m;
+                projection_iso = surface.iso;
+                if (straddle) {
+                    // The local move, then what the enclosed volume still lacks, uniformly.
+                    projection_iso += straddle_surface(c, *surface.grid, surface.iso);
+                    const double gap = (dense_volume - signed_volume(c)) / surface_area(c);
+                    offset_along_normals(c, gap);
+                    projection_iso += gap;
+                }
+                Counters cn;
+                clean(c, cn);
+                const MeshQuality q = measure_quality(c, opt.min_angle_deg, opt.min_dihedral_deg);
+                const bool ok = q.angles_below + q.dihedrals_below == 0;
+                const double score = (ok ? 0.0 : 1e6) + std::abs(signed_volume(c) - dense_volume) / std::abs(dense_volume);
+                if (score < candidate_score) {
+                    candidate_score = score;
+                    candidate = std::move(c);
+                    n = cn;
+                    candidate_iso = projection_iso;
+                }
+                if (ok) break;  // the straddling mesh met the bounds: no need for the other
+            }
         }
+        projection_iso = candidate_iso;
         const double ratio = double(candidate.num_triangles()) / double(opt.target_triangles);
         if (std::abs(ratio - 1) < best_error) {
             best_error = std::abs(ratio - 1);
