@@ -189,11 +189,18 @@ TEST(CarryRegions, GroupsOfAnObjFileLoadTheRemeshedMesh) {
         if (r == "lid") load += -p * triangle_normal(m, t) * triangle_area(m, t);
         if (r == "clamp") reaction += sol.traction[t] * triangle_area(m, t);
     }
-    const double rim_area = M_PI * (0.05 * 0.05 - 0.04 * 0.04);
+    // The BEM mesh stands one voxel (2 mm) outside the ball, and a coarse triangle takes the region
+    // of the fine triangle nearest it, i.e. radially below it: the rim lies on the sphere of radius
+    // R_c = 52 mm at height 40 R_c / 50 mm.
+    const double R_c = 0.052, z_rim = 0.04 * R_c / 0.05;
+    const double rim_area = M_PI * (R_c * R_c - z_rim * z_rim);
     std::cout << "grouped ball: load " << load.transpose() << " N (p x rim area " << p * rim_area << " N), clamp reaction "
               << reaction.transpose() << " N, |sum| / |load| " << (load + reaction).norm() / load.norm() << "\n";
-    EXPECT_NEAR(-load.z(), p * rim_area, 0.05 * p * rim_area);  // measured 1.2 %
-    EXPECT_LT(load.head<2>().norm(), 1e-3 * load.norm());
+    EXPECT_NEAR(-load.z(), p * rim_area, 0.05 * p * rim_area);  // measured +4.3 %
+    // The rim runs along coarse triangles (edges about 12 mm), so it is symmetric only to about an
+    // element: the lateral part of the load measured 3.5 % (1e-3 on the QEM mesh before issue 13,
+    // whose triangulation happened to keep the ball's symmetry).
+    EXPECT_LT(load.head<2>().norm(), 0.05 * load.norm());
     EXPECT_LT((load + reaction).norm(), 0.1 * load.norm());  // measured 6.1 %
     // A condition naming a region the file does not have is refused by validate, at the condition's
     // line, naming the file's groups (the regions simplify.remesh carries from it).
