@@ -17,6 +17,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <set>
+#include <utility>
 
 using namespace cf;
 using cf::testing::run_node;
@@ -197,10 +199,34 @@ TEST(CarryRegions, GroupsOfAnObjFileLoadTheRemeshedMesh) {
     std::cout << "grouped ball: load " << load.transpose() << " N (p x rim area " << p * rim_area << " N), clamp reaction "
               << reaction.transpose() << " N, |sum| / |load| " << (load + reaction).norm() / load.norm() << "\n";
     EXPECT_NEAR(-load.z(), p * rim_area, 0.05 * p * rim_area);  // measured +4.3 %
-    // The rim runs along coarse triangles (edges about 12 mm), so it is symmetric only to about an
-    // element: the lateral part of the load measured 3.5 % (1e-3 on the QEM mesh before issue 13,
-    // whose triangulation happened to keep the ball's symmetry).
-    EXPECT_LT(load.head<2>().norm(), 0.05 * load.norm());
+    // The lateral part of the load. By Stokes, sum over the lid of n A = 1/2 sum over its rim edges
+    // (p, q) of p x q, whose horizontal part is z^ x sum_e (z_e - c) (q - p)_h for any constant c
+    // (z_e the edge's mid height; the sum of (q - p)_h over a closed rim vanishes). So the lateral
+    // load is bounded by p sum_e |z_e - z_rim| |(q - p)_h|: it vanishes only for a rim in the plane
+    // z = z_rim, and a rim made of coarse triangles' edges departs from it by up to about an edge.
+    // The 1e-3 bar before issue 13 held for the QEM mesh, whose rim happened to be near-planar; it
+    // is not a property of carried regions. Checked instead: the lateral load is the rim's own
+    // (within that bound), and the rim stays within one coarse edge of the fine rim's plane (a
+    // coarse triangle takes the region of the fine triangle nearest it, so it cannot stray further).
+    std::set<std::pair<int, int>> lid_edges;
+    for (std::size_t t = 0; t < m.num_triangles(); ++t)
+        if (m.region_name(m.region_of(t)) == "lid")
+            for (int k = 0; k < 3; ++k) lid_edges.insert({m.triangles[t][k], m.triangles[t][(k + 1) % 3]});
+    double bound = 0, rim_offset = 0, longest_edge = 0;
+    for (std::size_t t = 0; t < m.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k)
+            longest_edge = std::max(longest_edge, (m.vertices[m.triangles[t][k]] - m.vertices[m.triangles[t][(k + 1) % 3]]).norm());
+    for (const auto& [i, j] : lid_edges) {
+        if (lid_edges.count({j, i})) continue;  // interior edge of the lid
+        const Vec3 a = m.vertices[i], b = m.vertices[j];
+        bound += p * std::abs(0.5 * (a.z() + b.z()) - z_rim) * (b - a).head<2>().norm();
+        rim_offset = std::max(rim_offset, std::abs(a.z() - z_rim));
+    }
+    std::cout << "grouped ball: lateral load " << load.head<2>().norm() << " N (" << load.head<2>().norm() / load.norm()
+              << " of the load), rim bound " << bound << " N, rim off its plane by up to " << rim_offset
+              << " m (longest coarse edge " << longest_edge << " m)\n";
+    EXPECT_LE(load.head<2>().norm(), bound * (1 + 1e-9));
+    EXPECT_LE(rim_offset, longest_edge);
     EXPECT_LT((load + reaction).norm(), 0.1 * load.norm());  // measured 6.1 %
     // A condition naming a region the file does not have is refused by validate, at the condition's
     // line, naming the file's groups (the regions simplify.remesh carries from it).
