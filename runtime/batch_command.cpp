@@ -55,7 +55,7 @@ int collect_command(const fs::path& dir) {
                          r.error.c_str(), r.log.empty() ? "" : (" (log: " + r.log + ")").c_str());
     std::fprintf(stderr, "crackflow batch: %d of %d rows ok, %d failed; summary in %s and %s\n", n.ok, n.total, n.failed,
                  (dir / "summary.json").string().c_str(), (dir / "summary.csv").string().c_str());
-    return n.failed ? 1 : 0;
+    return batch_exit_code(rows);
 }
 
 }  // namespace
@@ -204,10 +204,7 @@ int batch_command(const BatchRequest& req) {
     std::fprintf(stderr, "crackflow batch: %d of %d rows ok, %d failed; summary in %s\n", n.ok, n.total, n.failed,
                  (opt.out_dir / "summary.csv").string().c_str());
     if (o.cancelled) return sig == SIGTERM ? 143 : 130;
-    bool invalid = false;
-    for (const auto& r : results) invalid = invalid || r.status == "invalid";
-    if (invalid) return 2;
-    return n.failed ? 1 : 0;
+    return batch_exit_code(results);
 }
 
 }  // namespace cf::runtime

@@ -251,7 +251,7 @@ int run_slurm(const Manifest& manifest, const std::string& manifest_path, const 
     const SummaryCounts n = count(results);
     std::fprintf(stderr, "crackflow batch: %d of %d rows ok, %d failed; summary in %s\n", n.ok, n.total, n.failed,
                  (rows.out_dir / "summary.csv").string().c_str());
-    return n.failed ? 1 : 0;
+    return batch_exit_code(results);
 }
 
 }  // namespace cf::runtime::batch

@@ -134,6 +134,15 @@ SummaryCounts count(const std::vector<RowResult>& rows) {
     return c;
 }
 
+int batch_exit_code(const std::vector<RowResult>& rows) {
+    bool invalid = false, failed = false;
+    for (const auto& r : rows) {
+        invalid = invalid || r.status == "invalid";
+        failed = failed || r.status != "ok";
+    }
+    return invalid ? 2 : failed ? 1 : 0;
+}
+
 std::string summary_json(const std::vector<RowResult>& rows) {
     const SummaryCounts c = count(rows);
     graph::JsonWriter w;

@@ -47,6 +47,9 @@ struct SummaryCounts {
     int total = 0, ok = 0, failed = 0;  // failed: every row that is not ok (missing ones included)
 };
 SummaryCounts count(const std::vector<RowResult>& rows);
+// The batch's exit code from its rows, the same for every backend and for --collect (docs/batch.md):
+// 2 if any row is invalid (bad input), else 1 if any is not ok, else 0.
+int batch_exit_code(const std::vector<RowResult>& rows);
 
 std::string summary_json(const std::vector<RowResult>& rows);
 std::string summary_csv(const std::vector<RowResult>& rows);

@@ -172,6 +172,14 @@ TEST(BatchSummary, StatusFromTheProcessAndTheReport) {
     EXPECT_EQ(n.total, 6);
     EXPECT_EQ(n.ok, 1);
     EXPECT_EQ(n.failed, 5);  // rows without a report count as failed
+    // One exit code for every backend and --collect: an invalid row (bad input) makes it 2, else
+    // any row not ok 1, else 0.
+    EXPECT_EQ(batch_exit_code(rows), 2);
+    std::vector<RowResult> without_invalid = rows;
+    without_invalid.erase(without_invalid.begin() + 3);
+    EXPECT_EQ(batch_exit_code(without_invalid), 1);
+    EXPECT_EQ(batch_exit_code({rows[0]}), 0);
+    EXPECT_EQ(batch_exit_code({}), 0);
 
     const YAML::Node s = YAML::LoadFile((dir / "summary.json").string());
     EXPECT_EQ(s["ok"].as<int>(), 1);
