@@ -13,6 +13,8 @@
 #include "nodes/shape/box.hpp"
 #include "nodes/shape/icosphere.hpp"
 
+#include "tests/harness/shell_command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <tiny_gltf.h>
@@ -23,10 +25,12 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
-#include <sys/wait.h>
 
 using namespace cf;
 using namespace cf::rigid;
+using cf::testing::CommandResult;
+using cf::testing::run_command;
+using cf::testing::shell_quote;
 namespace fs = std::filesystem;
 
 namespace {
@@ -220,28 +224,7 @@ void write_expectation(const Animation& a, const fs::path& path) {
 
 // ---- running the external readers ----------------------------------------------------------
 
-std::string shell_quote(const std::string& s) {
-    std::string r = "'";
-    for (char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return r + "'";
-}
 
-struct CommandResult {
-    int exit_code = -1;
-    std::string output;  // stdout and stderr
-};
-
-CommandResult run_command(const std::string& command) {
-    CommandResult r;
-    FILE* p = popen((command + " 2>&1").c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int status = pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 // The python that imports vtk, or an explanation of what to install.
 ::testing::AssertionResult vtk_python(std::string& python) {

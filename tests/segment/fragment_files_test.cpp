@@ -10,19 +10,23 @@
 #include "nodes/segment/surface_fragments.hpp"
 #include "tests/segment/textured_box.hpp"
 
+#include "tests/harness/shell_command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sys/wait.h>
 
 namespace cf {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace textured_box;
+using testing::CommandResult;
+using testing::run_command;
+using testing::shell_quote;
 
 struct Cut {
     SurfaceMesh input;
@@ -51,28 +55,7 @@ const Cut& cut() {
     return c;
 }
 
-std::string shell_quote(const std::string& s) {
-    std::string q = "'";
-    for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-    return q + "'";
-}
 
-struct CommandResult {
-    int exit_code = -1;
-    std::string output;
-};
-
-CommandResult run_command(const std::string& command) {
-    CommandResult r;
-    FILE* p = popen((command + " 2>&1").c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int status = pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 fs::path export_dir(const std::string& format) {
     const fs::path d = fs::temp_directory_path() / "crackflow-tests" / ("fragment_files_" + format);
