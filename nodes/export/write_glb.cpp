@@ -2,68 +2,16 @@
 // library: no implementation macro here). Per-vertex attributes come from the corners
 // (corner_vertices.hpp); one primitive per region so each region gets its own material.
 #include "nodes/export/corner_vertices.hpp"
+#include "nodes/export/glb_builder.hpp"
 #include "nodes/export/mesh_checks.hpp"
 #include "nodes/export/mesh_writers.hpp"
 
-#include <tiny_gltf.h>
-
-#include <cstring>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 namespace cf {
 
 namespace {
-
-class GlbModel {
-public:
-    tinygltf::Model model;
-    GlbModel() {
-        model.asset.version = "2.0";
-        model.asset.generator = "crackflow";
-        model.buffers.emplace_back();
-    }
-    int view(const void* data, std::size_t bytes, int target) {
-        auto& buf = model.buffers[0].data;
-        while (buf.size() % 4) buf.push_back(0);
-        tinygltf::BufferView v;
-        v.buffer = 0;
-        v.byteOffset = buf.size();
-        v.byteLength = bytes;
-        v.target = target;
-        buf.insert(buf.end(), static_cast<const unsigned char*>(data), static_cast<const unsigned char*>(data) + bytes);
-        model.bufferViews.push_back(v);
-        return int(model.bufferViews.size()) - 1;
-    }
-    int floats(const std::vector<float>& values, int components, int type, bool bounds) {
-        tinygltf::Accessor a;
-        a.bufferView = view(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-        a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        a.type = type;
-        a.count = values.size() / std::size_t(components);
-        if (bounds) {
-            a.minValues.assign(std::size_t(components), std::numeric_limits<double>::infinity());
-            a.maxValues.assign(std::size_t(components), -std::numeric_limits<double>::infinity());
-            for (std::size_t i = 0; i < values.size(); ++i) {
-                const std::size_t c = i % std::size_t(components);
-                a.minValues[c] = std::min(a.minValues[c], double(values[i]));
-                a.maxValues[c] = std::max(a.maxValues[c], double(values[i]));
-            }
-        }
-        model.accessors.push_back(a);
-        return int(model.accessors.size()) - 1;
-    }
-    int indices(const std::vector<std::uint32_t>& idx) {
-        tinygltf::Accessor a;
-        a.bufferView = view(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-        a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-        a.type = TINYGLTF_TYPE_SCALAR;
-        a.count = idx.size();
-        model.accessors.push_back(a);
-        return int(model.accessors.size()) - 1;
-    }
-};
 
 Vec3 colour_of(const std::string& name, const std::vector<std::pair<std::string, Vec3>>& colours) {
     for (const auto& [n, c] : colours)
@@ -85,7 +33,7 @@ void write_glb(std::ostream& os, const SurfaceMesh& m, const std::string& name,
         src = &flat;
     }
     const CornerVertices cv = split_corner_vertices(*src);
-    GlbModel g;
+    GlbBuilder g;
     std::vector<float> pos, nrm, uv;
     for (std::size_t i = 0; i < cv.vertex.size(); ++i) {
         for (int k = 0; k < 3; ++k) pos.push_back(float(m.vertices[std::size_t(cv.vertex[i])][k]));
@@ -95,9 +43,9 @@ void write_glb(std::ostream& os, const SurfaceMesh& m, const std::string& name,
             uv.push_back(float(1.0 - cv.uv[i].y()));
         }
     }
-    const int a_pos = g.floats(pos, 3, TINYGLTF_TYPE_VEC3, true);
-    const int a_nrm = g.floats(nrm, 3, TINYGLTF_TYPE_VEC3, false);
-    const int a_uv = uv.empty() ? -1 : g.floats(uv, 2, TINYGLTF_TYPE_VEC2, false);
+    const int a_pos = g.add_floats(pos, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+    const int a_nrm = g.add_floats(nrm, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+    const int a_uv = uv.empty() ? -1 : g.add_floats(uv, 2, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
     tinygltf::Mesh mesh;
     mesh.name = name;
     for (int r = 0; r < m.num_regions(); ++r) {
@@ -106,19 +54,13 @@ void write_glb(std::ostream& os, const SurfaceMesh& m, const std::string& name,
             if (m.region_of(t) == r)
                 for (int v : cv.triangles[t]) idx.push_back(std::uint32_t(v));
         if (idx.empty()) continue;  // an unused material would draw a validator note
-        tinygltf::Material mat;
-        mat.name = m.region_name(r);
-        const Vec3 c = colour_of(mat.name, colours);
-        mat.pbrMetallicRoughness.baseColorFactor = {c.x(), c.y(), c.z(), 1.0};
-        mat.pbrMetallicRoughness.metallicFactor = 0.0;
-        mat.pbrMetallicRoughness.roughnessFactor = 0.8;
-        g.model.materials.push_back(mat);
+        const int material = g.add_material(m.region_name(r), colour_of(m.region_name(r), colours));
         tinygltf::Primitive prim;
         prim.attributes["POSITION"] = a_pos;
         prim.attributes["NORMAL"] = a_nrm;
         if (a_uv >= 0) prim.attributes["TEXCOORD_0"] = a_uv;
-        prim.indices = g.indices(idx);
-        prim.material = int(g.model.materials.size()) - 1;
+        prim.indices = g.add_indices(idx);
+        prim.material = material;
         prim.mode = TINYGLTF_MODE_TRIANGLES;
         mesh.primitives.push_back(prim);
     }

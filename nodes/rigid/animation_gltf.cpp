@@ -5,9 +5,7 @@
 #include "nodes/rigid/animation_checks.hpp"
 #include "nodes/rigid/piece_colours.hpp"
 
-// Debian's libtinygltf-dev ships the implementation as libtinygltf.so: only the declarations are
-// compiled here (no TINYGLTF_IMPLEMENTATION), the library is linked (nodes/rigid/CMakeLists.txt).
-#include <tiny_gltf.h>
+#include "nodes/export/glb_builder.hpp"  // tinygltf: the declarations, Debian's compiled library linked
 
 #include <algorithm>
 #include <array>
@@ -100,78 +98,6 @@ RenderMesh render_mesh(const SurfaceMesh& m, int inside, bool want_inside) {
     return r;
 }
 
-// Builds the model; all binary data goes into buffer 0, which becomes the .glb's BIN chunk.
-class GlbBuilder {
-public:
-    tinygltf::Model model;
-
-    GlbBuilder() {
-        model.asset.version = "2.0";
-        model.asset.generator = "crackflow";
-        model.buffers.emplace_back();
-    }
-
-    // An accessor of `count` elements of `components` floats; with bounds (min/max), which glTF
-    // requires for POSITION and animation inputs.
-    int add_floats(const std::vector<float>& values, int components, int type, int target, bool bounds) {
-        tinygltf::Accessor acc;
-        acc.bufferView = add_view(values.data(), values.size() * sizeof(float), target);
-        acc.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        acc.type = type;
-        acc.count = values.size() / static_cast<std::size_t>(components);
-        if (bounds) {
-            acc.minValues.assign(std::size_t(components), std::numeric_limits<double>::infinity());
-            acc.maxValues.assign(std::size_t(components), -std::numeric_limits<double>::infinity());
-            for (std::size_t i = 0; i < values.size(); ++i) {
-                const std::size_t c = i % std::size_t(components);
-                acc.minValues[c] = std::min(acc.minValues[c], double(values[i]));
-                acc.maxValues[c] = std::max(acc.maxValues[c], double(values[i]));
-            }
-        }
-        return push(std::move(acc));
-    }
-
-    int add_indices(const std::vector<std::uint32_t>& indices) {
-        tinygltf::Accessor acc;
-        acc.bufferView = add_view(indices.data(), indices.size() * sizeof(std::uint32_t),
-                                  TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-        acc.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-        acc.type = TINYGLTF_TYPE_SCALAR;
-        acc.count = indices.size();
-        return push(std::move(acc));
-    }
-
-private:
-    // Every element is 4 bytes, so views stay 4-byte aligned without padding.
-    int add_view(const void* data, std::size_t bytes, int target) {
-        std::vector<unsigned char>& buf = model.buffers[0].data;
-        tinygltf::BufferView view;
-        view.buffer = 0;
-        view.byteOffset = buf.size();
-        view.byteLength = bytes;
-        view.target = target;
-        const auto* p = static_cast<const unsigned char*>(data);
-        buf.insert(buf.end(), p, p + bytes);
-        model.bufferViews.push_back(std::move(view));
-        return static_cast<int>(model.bufferViews.size()) - 1;
-    }
-
-    int push(tinygltf::Accessor&& acc) {
-        model.accessors.push_back(std::move(acc));
-        return static_cast<int>(model.accessors.size()) - 1;
-    }
-};
-
-int add_material(tinygltf::Model& model, const std::string& name, const Vec3& rgb) {
-    tinygltf::Material mat;
-    mat.name = name;
-    mat.pbrMetallicRoughness.baseColorFactor = {rgb.x(), rgb.y(), rgb.z(), 1.0};
-    mat.pbrMetallicRoughness.metallicFactor = 0.0;
-    mat.pbrMetallicRoughness.roughnessFactor = 0.8;
-    model.materials.push_back(std::move(mat));
-    return static_cast<int>(model.materials.size()) - 1;
-}
-
 void add_primitive(GlbBuilder& b, tinygltf::Mesh& mesh, const RenderMesh& r, int material) {
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = b.add_floats(r.positions, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
@@ -192,9 +118,9 @@ int add_mesh(GlbBuilder& b, const AnimationPiece& p, const Vec3& colour) {
     for (std::size_t t = 0; t < m.num_triangles(); ++t) (inside >= 0 && m.region_of(t) == inside ? has_inside : has_outside) = true;
     tinygltf::Mesh mesh;
     mesh.name = p.name;
-    if (has_outside) add_primitive(b, mesh, render_mesh(m, inside, false), add_material(b.model, p.name, colour));
+    if (has_outside) add_primitive(b, mesh, render_mesh(m, inside, false), b.add_material(p.name, colour));
     if (has_inside)
-        add_primitive(b, mesh, render_mesh(m, inside, true), add_material(b.model, p.name + ".inside", inside_shade(colour)));
+        add_primitive(b, mesh, render_mesh(m, inside, true), b.add_material(p.name + ".inside", inside_shade(colour)));
     b.model.meshes.push_back(std::move(mesh));
     return static_cast<int>(b.model.meshes.size()) - 1;
 }
