@@ -109,6 +109,7 @@ struct SheetItem {
     Vec3 shift = Vec3::Zero();   // [m] added to its vertices (the explode)
     Vec3 colour, inside_colour;  // of its faces, and of those in the region "inside"
     bool back_faces = false;     // draw the faces turned away from the camera (lit from behind) instead of the front ones
+    bool framed = true;          // the views are framed on the items that have this set
 };
 
 ViewImage render_view(const std::vector<SheetItem>& items, const Vec3& centre, double pixels_per_metre, const View& v,
@@ -148,14 +149,14 @@ void check_sheet_options(const SheetOptions& o) {
         throw std::invalid_argument("preview camera: " + problem);
 }
 
-// The sheet of `items`, framed on the items whose `frame` flag is set.
-std::vector<unsigned char> render_sheet(const std::vector<SheetItem>& items, const std::vector<bool>& frame,
-                                        const SheetOptions& o, int* sheet_width, int* sheet_height) {
+// The sheet of `items`, framed on the items marked `framed`.
+std::vector<unsigned char> render_sheet(const std::vector<SheetItem>& items, const SheetOptions& o, int* sheet_width,
+                                        int* sheet_height) {
     const CancelToken cancel = CancelToken::current();
     // The scene's centre and radius after the explode: one scale for every view.
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (std::size_t i = 0; i < items.size(); ++i)
-        if (frame[i])
+        if (items[i].framed)
             for (const Vec3& p : items[i].mesh->vertices) {
                 lo = lo.cwiseMin(p + items[i].shift);
                 hi = hi.cwiseMax(p + items[i].shift);
@@ -210,7 +211,7 @@ std::vector<unsigned char> render_fragment_sheet(const std::vector<SurfaceMesh>&
         items[i].colour = fragment_colour(i);
         items[i].inside_colour = fragment_inside_colour(i);
     }
-    return render_sheet(items, std::vector<bool>(items.size(), true), o, sheet_width, sheet_height);
+    return render_sheet(items, o, sheet_width, sheet_height);
 }
 
 std::vector<unsigned char> render_crack_sheet(const SurfaceMesh& object, const std::vector<SurfaceMesh>& cracks,
@@ -226,11 +227,10 @@ std::vector<unsigned char> render_crack_sheet(const SurfaceMesh& object, const s
         SheetItem crack;
         crack.mesh = &cracks[i];
         crack.colour = crack.inside_colour = fragment_colour(i);
+        crack.framed = false;  // the same framing at every step: the object's
         items.push_back(crack);
     }
-    std::vector<bool> frame(items.size(), false);
-    frame[0] = true;  // the same framing at every step: the object's
-    return render_sheet(items, frame, o, sheet_width, sheet_height);
+    return render_sheet(items, o, sheet_width, sheet_height);
 }
 
 void write_crack_sheet(const std::filesystem::path& png, const SurfaceMesh& object, const std::vector<SurfaceMesh>& cracks,

@@ -189,16 +189,28 @@ private:
 
     Vec3 projected(const Vec3& p) const { return project_ ? project_(p) : p; }
 
+    // Edge k of triangle t = (a, b, c), from a to b, with the neighbour o = (b, a, d) across it;
+    // false on a border edge or a degenerate neighbour.
+    struct EdgePair {
+        int a, b, c, o, d;
+    };
+    bool edge_pair(int t, int k, EdgePair& e) const {
+        const Tri& f = m_.triangles[t];
+        e.a = f[k], e.b = f[(k + 1) % 3], e.c = f[(k + 2) % 3];
+        e.o = across(e.b, e.a);
+        if (e.o < 0) return false;
+        e.d = -1;
+        for (int v : m_.triangles[e.o])
+            if (v != e.a && v != e.b) e.d = v;
+        return e.d >= 0;
+    }
+
     // Flip of edge a -> b of triangle t = (a, b, c) with the neighbour (b, a, d).
     bool flip_change(int t, int k, Change& ch) const {
+        EdgePair e;
+        if (!edge_pair(t, k, e) || e.d == e.c) return false;
         const Tri& f = m_.triangles[t];
-        const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
-        const int o = across(b, a);
-        if (o < 0) return false;
-        int d = -1;
-        for (int v : m_.triangles[o])
-            if (v != a && v != b) d = v;
-        if (d < 0 || d == c) return false;
+        const int a = e.a, b = e.b, c = e.c, o = e.o, d = e.d;
         const double dih = dihedral_deg(normal(f), normal(m_.triangles[o]));
         if (!(dih >= kFlatFlipDeg || dih < b_.min_dihedral_deg)) return false;
         ch = Change{};
@@ -245,14 +257,9 @@ private:
 
     // Split of edge a -> b of triangle t = (a, b, c) and its neighbour (b, a, d) at p (a new vertex).
     bool split_change(int t, int k, const Vec3& p, Change& ch) const {
-        const Tri& f = m_.triangles[t];
-        const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
-        const int o = across(b, a);
-        if (o < 0) return false;
-        int d = -1;
-        for (int v : m_.triangles[o])
-            if (v != a && v != b) d = v;
-        if (d < 0) return false;
+        EdgePair e;
+        if (!edge_pair(t, k, e)) return false;
+        const int a = e.a, b = e.b, c = e.c, o = e.o, d = e.d;
         const int m = int(m_.vertices.size());
         ch = Change{};
         ch.kind = 3;
