@@ -86,30 +86,22 @@ void BM_MeshToVolumeSameStrips(benchmark::State& state) {
 BENCHMARK(BM_MeshToVolumeSameStrips)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The object level set of the thesis' edge-cracked cube (issue 17): a 10 cm box of 300 triangles at
-// r_f = L / 339, 4.1 M active voxels in the 3-voxel band.
-void BM_ObjectLevelSetBox(benchmark::State& state) {
+// r_f = L / 339, 4.1 M active voxels in the 3-voxel band; by meshToLevelSet or by the exact band
+// rasteriser (levelset.from_mesh band: exact).
+template <LevelSet (*Build)(const SurfaceMesh&, double, double, double, const CancelToken&)>
+void object_level_set_box(benchmark::State& state) {
     BoxSpec spec;
     spec.size = Vec3(0.1, 0.1, 0.1);
     spec.subdivisions = 5;
     const SurfaceMesh box = make_box(spec);
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
     std::size_t voxels = 0;
-    for (auto _ : state) voxels = active_voxel_count(level_set_from_mesh(box, 2.9499e-4));
+    for (auto _ : state) voxels = active_voxel_count(Build(box, 2.9499e-4, 3, 2e8, CancelToken::current()));
     state.counters["active_voxels"] = double(voxels);
 }
+void BM_ObjectLevelSetBox(benchmark::State& state) { object_level_set_box<level_set_from_mesh>(state); }
 BENCHMARK(BM_ObjectLevelSetBox)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
-
-// The same box by the exact band rasteriser (levelset.from_mesh band: exact).
-void BM_ExactObjectLevelSetBox(benchmark::State& state) {
-    BoxSpec spec;
-    spec.size = Vec3(0.1, 0.1, 0.1);
-    spec.subdivisions = 5;
-    const SurfaceMesh box = make_box(spec);
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
-    std::size_t voxels = 0;
-    for (auto _ : state) voxels = active_voxel_count(exact_level_set_from_mesh(box, 2.9499e-4));
-    state.counters["active_voxels"] = double(voxels);
-}
+void BM_ExactObjectLevelSetBox(benchmark::State& state) { object_level_set_box<exact_level_set_from_mesh>(state); }
 BENCHMARK(BM_ExactObjectLevelSetBox)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // A 1 m cube at r_f = 2 mm (~1e7 active voxels) cut by one oblique plane.
