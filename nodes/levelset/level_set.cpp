@@ -13,6 +13,7 @@
 #include <openvdb/tools/LevelSetMeasure.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
+#include <openvdb/thread/Threading.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -87,19 +88,50 @@ std::vector<Shell> shells_of(const SurfaceMesh& mesh) {
     return shells;
 }
 
+// The triangles as meshToLevelSet hands them to meshToVolume (corners rounded to float, then to float
+// index-space points), with one addition: every corner read polls the cancel token. OpenVDB asks its
+// interrupter only per polygon while voxelising and then between phases, and the sign classification,
+// band expansion and renormalisation in between take up to a second on a fine grid of an imported mesh
+// (issue 16: Ctrl-C within 0.5 s). Those phases read triangle corners throughout, so a read on a
+// cancelled run cancels the parallel loop it runs in, as OpenVDB's own voxeliser does when interrupted
+// (thread::cancelGroupExecution: no new chunks start; running ones finish, so the trees stay
+// consistent), and the interrupter ends the conversion at its next check. The grid is then incomplete,
+// and the caller's poll() throws. On a run that is not cancelled the values are meshToLevelSet's, bit
+// for bit (test LevelSet.CancellableConversionEqualsMeshToLevelSet).
+struct CancellableTriangles {
+    std::vector<openvdb::Vec3s> points;  // index space
+    std::vector<openvdb::Vec3I> triangles;
+    CancelToken cancel;
+
+    std::size_t polygonCount() const { return triangles.size(); }
+    std::size_t pointCount() const { return points.size(); }
+    std::size_t vertexCount(std::size_t) const { return 3; }
+    void getIndexSpacePoint(std::size_t n, std::size_t v, openvdb::Vec3d& pos) const {
+        if (cancel.requested()) openvdb::thread::cancelGroupExecution();
+        pos = points[triangles[n][int(v)]];
+    }
+};
+
 openvdb::FloatGrid::Ptr shell_grid(const SurfaceMesh& mesh, const std::vector<Tri>& triangles, double r_f,
                                    double half_width, const CancelToken& cancel) {
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(mesh.vertices.size());
-    for (const Vec3& v : mesh.vertices) points.emplace_back(float(v.x()), float(v.y()), float(v.z()));
-    std::vector<openvdb::Vec3I> tris;
-    tris.reserve(triangles.size());
-    for (const Tri& t : triangles) tris.emplace_back(t[0], t[1], t[2]);
     auto xform = openvdb::math::Transform::createLinearTransform(r_f);
-    // Sign by scan conversion, then flood fill of the interior tiles (ch. 6.1, [52]).
+    std::vector<openvdb::Vec3s> world;
+    world.reserve(mesh.vertices.size());
+    for (const Vec3& v : mesh.vertices) world.emplace_back(float(v.x()), float(v.y()), float(v.z()));
+    CancellableTriangles adapter{std::vector<openvdb::Vec3s>(world.size()), {}, cancel};
+    // meshToLevelSet's own point transform: the same loop written here rounds some index-space
+    // corners differently by one float ulp (measured on a torus: 74 of 288 points), which moves
+    // band values by a few ulps.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size()),
+                      openvdb::tools::mesh_to_volume_internal::TransformPoints<openvdb::Vec3s>(
+                          world.data(), adapter.points.data(), *xform));
+    adapter.triangles.reserve(triangles.size());
+    for (const Tri& t : triangles) adapter.triangles.emplace_back(t[0], t[1], t[2]);
+    // Sign by scan conversion, then flood fill of the interior tiles (ch. 6.1, [52]); the band of
+    // half_width voxels on both sides, as meshToLevelSet asks for it.
     CancelInterrupter interrupter(cancel);
-    openvdb::FloatGrid::Ptr g =
-        openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(interrupter, *xform, points, tris, float(half_width));
+    openvdb::FloatGrid::Ptr g = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        interrupter, adapter, *xform, float(half_width), float(half_width));
     cancel.poll();
     return g;
 }

@@ -39,8 +39,8 @@ LevelSet level_set_from_mesh(const SurfaceMesh& mesh, double voxel_size, double 
 // The same grid with exact distances to the nearest triangle in the band (issue 17): rasterised per
 // leaf-sized block near the surface in parallel (oneTBB, the same grid for any thread count),
 // signed by angle-weighted pseudo-normals, the interior as tiles, then meshToLevelSet's own
-// renormalisation and trimming; polls `cancel` per block (meshToLevelSet goes up to a second
-// between its checks). About 2.7x less CPU than meshToLevelSet on a box (object_band.cpp). Where meshToLevelSet's
+// renormalisation and trimming; polls `cancel` per block (level_set_from_mesh polls it at every
+// triangle-corner read inside OpenVDB's conversion). About 2.7x less CPU than meshToLevelSet on a box (object_band.cpp). Where meshToLevelSet's
 // band expansion errs (up to 0.13 voxel beyond 2 voxels from an edge, 1.7 voxels beside a sharp
 // concave notch) the values differ, which moves a remeshed BEM mesh and with it the results of
 // curved cases (docs/performance.md); hence not the default. Meshes of several shells or with
