@@ -129,9 +129,17 @@ openvdb::FloatGrid::Ptr shell_grid(const SurfaceMesh& mesh, const std::vector<Tr
     for (const Tri& t : triangles) adapter.triangles.emplace_back(t[0], t[1], t[2]);
     // Sign by scan conversion, then flood fill of the interior tiles (ch. 6.1, [52]); the band of
     // half_width voxels on both sides, as meshToLevelSet asks for it.
+    // The renormalisation and trimming run here instead, polled (they are meshToVolume's last steps
+    // and its longest stretch without an interrupter check).
     CancelInterrupter interrupter(cancel);
+    const int flags = openvdb::tools::DISABLE_RENORMALIZATION | openvdb::tools::DISABLE_NARROW_BAND_TRIMMING;
     openvdb::FloatGrid::Ptr g = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        interrupter, adapter, *xform, float(half_width), float(half_width));
+        interrupter, adapter, *xform, float(half_width), float(half_width), flags);
+    cancel.poll();
+    const float voxel = float(xform->voxelSize()[0]);
+    const float width = float(half_width) * voxel;
+    if (g->tree().activeVoxelCount() > 0)  // meshToVolume returns an empty band untouched
+        renormalise_and_trim_like_mesh_to_volume(*g, voxel, float(half_width), width < voxel * 4.0f, cancel);
     cancel.poll();
     return g;
 }

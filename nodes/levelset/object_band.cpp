@@ -10,6 +10,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/thread/Threading.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -73,28 +74,58 @@ private:
     std::vector<Vec3> vertex_;
 };
 
+// A parallel loop over `n` leaves that stops starting chunks once the run is cancelled (the
+// chunks running finish, so the tree stays consistent; the caller polls afterwards).
+template <class Body>
+void polled_for(std::size_t n, const Body& body, const CancelToken& cancel) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+        if (cancel.requested()) {
+            openvdb::thread::cancelGroupExecution();
+            return;
+        }
+        body(r);
+    });
+}
+
 // The last steps of OpenVDB's meshToVolume on a signed band (MeshToVolume.h, OpenVDB 10), so the
-// values are those meshToLevelSet gives: sign into the tiles, one renormalisation step (which
-// keeps exact distances), the band trimmed to +-half_width voxels and pruned.
-void finish_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width) {
+// values are those meshToLevelSet gives: sign into the tiles, then renormalisation and trimming.
+void finish_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, const CancelToken& cancel) {
+    const float width = half_width * voxel_size;
+    openvdb::FloatTree& tree = grid.tree();
+    tree.root().setBackground(width, /*updateChildNodes=*/false);
+    openvdb::tools::signedFloodFillWithValues(tree, width, -width);
+    if (cancel.requested()) return;
+    renormalise_and_trim_like_mesh_to_volume(grid, voxel_size, half_width, /*trim=*/true, cancel);
+}
+
+}  // namespace
+
+// One renormalisation step (which keeps exact distances), then the band trimmed to +-half_width
+// voxels and pruned: meshToVolume's own steps, with its functors, in the same order, but polled
+// per chunk of leaves (in meshToVolume they run between two checks of its interrupter: 4 s on
+// the armadillo at r_f = 0.2 mm on a loaded machine).
+void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, bool trim,
+                                             const CancelToken& cancel) {
     namespace m2v = openvdb::tools::mesh_to_volume_internal;
     openvdb::FloatTree& tree = grid.tree();
     const float width = half_width * voxel_size;
-    tree.root().setBackground(width, /*updateChildNodes=*/false);
-    openvdb::tools::signedFloodFillWithValues(tree, width, -width);
     std::vector<LeafT*> nodes;
     nodes.reserve(tree.leafCount());
     tree.getNodes(nodes);
-    const tbb::blocked_range<std::size_t> range(0, nodes.size());
-    std::unique_ptr<float[]> buffer{new float[LeafT::SIZE * nodes.size()]};
+    const std::size_t n = nodes.size();
+    std::unique_ptr<float[]> buffer{new float[LeafT::SIZE * n]};
     const float offset = float(0.8 * voxel_size);
-    tbb::parallel_for(range, m2v::OffsetValues<openvdb::FloatTree>(nodes, -offset));
-    tbb::parallel_for(range, m2v::Renormalize<openvdb::FloatTree>(tree, nodes, buffer.get(), voxel_size));
-    tbb::parallel_for(range, m2v::MinCombine<openvdb::FloatTree>(nodes, buffer.get()));
-    tbb::parallel_for(range, m2v::OffsetValues<openvdb::FloatTree>(nodes, offset - m2v::Tolerance<float>::epsilon()));
-    tbb::parallel_for(range, m2v::InactivateValues<openvdb::FloatTree>(nodes, width, width));
+    polled_for(n, m2v::OffsetValues<openvdb::FloatTree>(nodes, -offset), cancel);
+    polled_for(n, m2v::Renormalize<openvdb::FloatTree>(tree, nodes, buffer.get(), voxel_size), cancel);
+    polled_for(n, m2v::MinCombine<openvdb::FloatTree>(nodes, buffer.get()), cancel);
+    polled_for(n, m2v::OffsetValues<openvdb::FloatTree>(nodes, offset - m2v::Tolerance<float>::epsilon()), cancel);
+    if (!trim || cancel.requested()) return;
+    polled_for(n, m2v::InactivateValues<openvdb::FloatTree>(nodes, width, width), cancel);
+    if (cancel.requested()) return;
     openvdb::tools::pruneLevelSet(tree, width, -width);
 }
+
+namespace {
 
 // A triangle in index space: its corners, bounding box and unit normal (for a cheap lower bound of
 // the distance: the distance to its plane).
@@ -279,7 +310,7 @@ openvdb::FloatGrid::Ptr exact_band_grid(const SurfaceMesh& mesh, double r_f, dou
     openvdb::FloatTree& tree = g->tree();
     for (auto& leaf : leaves)
         if (leaf) tree.addLeaf(leaf.release());
-    finish_like_mesh_to_volume(*g, voxel, float(half_width));
+    finish_like_mesh_to_volume(*g, voxel, float(half_width), cancel);
     return g;
 }
 
