@@ -4,15 +4,16 @@
 // gap, and reaches `margin` beyond the fragment's outer surface, so that the input surface
 // intersected with C_i is the fragment with the artist's own outer triangles. No OpenVDB here.
 //
-//   psi_i = max( (phi_i - min_{j != i} phi_j) / 2,  phi_i - margin )
+//   psi_i = max( (d_i - min_{j != i} d_j) / 2,  Phi_o - margin )
 //
-// phi_k is fragment k's signed distance, rebuilt with a band wide enough to hold margin (the
-// segmentation grids keep only 1-2 voxels outside a fragment, and inside a crack gap both sides
-// hold the same crack distance). The first term is negative where fragment i is the nearest
-// fragment (its zero set the bisector of the gap between i and j), the second keeps the cell
-// within `margin` of fragment i. Cells of neighbouring fragments meet on the bisector, so two
-// fragments' fracture faces coincide; each gains at most half the gap, under one voxel layer times
-// the crack area.
+// d_k is the distance to fragment k, needed only where another fragment is within a few voxels
+// (the crack gaps): there it is estimated from fragment k's own grid by min over its inside
+// voxels y near x of |x - y| + phi_k(y) (no fragment's distance is rebuilt; one pass over the
+// fragments' leaves finds those places). The first term is negative where fragment i is the
+// nearest fragment (its zero set the bisector of the gap between i and j), the second keeps the
+// cell within `margin` of the uncut object Phi_o. Cells of neighbouring fragments meet on the
+// bisector, so two fragments' fracture faces coincide; each gains at most half the gap, under one
+// voxel layer times the crack area.
 #include "nodes/segment/fragments.hpp"
 
 #include <memory>
@@ -21,8 +22,9 @@ namespace cf {
 
 class FragmentCells {
 public:
-    // Rebuilds every fragment's distance grid (oneTBB, one task per fragment) with a band of
-    // margin + 2 voxels. margin_voxels in [1, 8].
+    // Labels the fragments' inside voxels and finds, for every voxel within margin + 2 voxels of
+    // a place where two fragments meet, its nearest fragments (oneTBB over leaves; the same for any
+    // thread count). margin_voxels in [1, 8]. Throws std::invalid_argument without f.object.
     FragmentCells(const Fragments& f, double margin_voxels);
     ~FragmentCells();
     FragmentCells(const FragmentCells&) = delete;

@@ -3,6 +3,7 @@
 #include "nodes/segment/fragment_cells.hpp"
 #include "nodes/segment/fracture_faces.hpp"
 #include "nodes/segment/surface_fragments.hpp"
+#include "nodes/simplify/remesh.hpp"
 
 #include <stdexcept>
 
@@ -29,7 +30,17 @@ SurfaceMesh FragmentMesher::mesh(std::size_t i, std::string* warning) const {
     if (clipper_) {
         SurfaceMesh m;
         std::string problem;
-        if (clipper_->clip(cells_->cell_mesh(i, o_.adaptivity), m, &problem)) return m;
+        SurfaceMesh cell = cells_->cell_mesh(i, o_.adaptivity);
+        if (clipper_->clip(cell, m, &problem)) return m;
+        // Dual contouring occasionally folds a few triangles of a cell where its fracture faces
+        // meet the offset surface (a crease of psi_i); where that is near the input the
+        // corefinement fails. The folds are cut out and the holes filled, then it is tried again.
+        try {
+            repair_self_intersections(cell, 3);
+            if (clipper_->clip(cell, m, &problem)) return m;
+        } catch (const std::exception& e) {
+            problem += std::string("; repairing its cell failed: ") + e.what();
+        }
         if (warning) *warning = "fragment " + std::to_string(i) + ": " + problem + "; written as its level-set mesh";
     }
     SurfaceMesh m = level_set_to_mesh(f_.fragments[i].grid, o_.adaptivity);

@@ -167,19 +167,31 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
         if (problem) *problem = why;
         return false;
     };
+    // Built face by face (Surface_mesh refuses a face that would make it non-manifold): the
+    // polygon-soup route of cgal_mesh::to_cgal checks the soup first and cost as much as the
+    // corefinement.
     Mesh cell;
-    try {
-        cell = cgal_mesh::to_cgal(cell_in, "the fragment cell");
-    } catch (const std::invalid_argument&) {
-        return fail("its cell mesh is not manifold");
-    }
+    cell.reserve(Mesh::size_type(cell_in.vertices.size()), Mesh::size_type(3 * cell_in.triangles.size() / 2),
+                 Mesh::size_type(cell_in.triangles.size()));
+    std::vector<Mesh::Vertex_index> vertex;
+    vertex.reserve(cell_in.vertices.size());
+    for (const Vec3& p : cell_in.vertices) vertex.push_back(cell.add_vertex(cgal_mesh::Kernel::Point_3(p.x(), p.y(), p.z())));
+    for (const Tri& t : cell_in.triangles)
+        if (cell.add_face(vertex[std::size_t(t[0])], vertex[std::size_t(t[1])], vertex[std::size_t(t[2])]) == Mesh::null_face())
+            return fail("its cell mesh is not manifold");
+    for (Mesh::Vertex_index v : vertex)
+        if (cell.is_isolated(v)) cell.remove_vertex(v);
     // Dual contouring leaves an occasional zero-area triangle where the cell's two terms meet in a
     // crease (outside the object); CGAL counts it as a self-intersection. Collapsing it keeps the
-    // mesh closed and manifold (linear time; the self-intersection test after it is the expensive
-    // part of the check, so it runs once).
+    // mesh closed and manifold (linear time).
     PMP::remove_degenerate_faces(cell);
     if (cell.has_garbage()) cell.collect_garbage();
-    if (const std::string p = corefinement_problem(cell); !p.empty()) return fail("its cell mesh " + p);
+    if (!CGAL::is_closed(cell)) return fail("its cell mesh is not closed");
+    if (!CGAL::is_triangle_mesh(cell)) return fail("its cell mesh is not a triangle mesh");
+    // Self-intersections of the cell matter only where they end up in the fragment: dual contouring
+    // may fold a few triangles where the fracture faces meet the offset surface, outside the input,
+    // which the intersection drops. So only the fracture faces of the result are tested (below),
+    // not the whole cell, a test that cost more than the corefinement itself.
     Mesh input = impl_->mesh;  // corefinement splits the faces of both operands
     Mesh out;
     OriginVisitor v;
@@ -197,6 +209,13 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
     if (!ok) return fail("the intersection with its cell is not manifold");
     if (out.has_garbage()) out.collect_garbage();
     if (out.number_of_faces() == 0) return fail("its cell does not meet the input surface");
+    {
+        const OriginMap origin = out.property_map<Face, int>(kOrigin).first;
+        std::vector<Face> fracture;
+        for (Face f : out.faces())
+            if (origin[f] < 0) fracture.push_back(f);
+        if (PMP::does_self_intersect(fracture, out)) return fail("its fracture faces intersect each other");
+    }
     SurfaceMesh m = impl_->convert(out, out.property_map<Face, int>(kOrigin).first);
     const MeshTopologyReport topo = check_topology(m, 0.0);
     if (!(topo.closed() && topo.manifold() && topo.consistently_oriented()))

@@ -44,7 +44,9 @@ const Cut& cut() {
         io.weld_tolerance = 1e-9;
         k.input = read_mesh(dir / "box.obj", io);
         const CrackLevelSets cracks{kRf, 3, {planar_disk_crack(kP1, kN1, 1.0, kRf), planar_disk_crack(kP2, kN2, 1.0, kRf)}};
-        k.fragments = find_fragments(broken_object(level_set_from_mesh(k.input, kRf), cracks));
+        const LevelSet object = level_set_from_mesh(k.input, kRf);
+        k.fragments = find_fragments(broken_object(object, cracks));
+        k.fragments.object = object;  // as segment.fragments sets it: the surface mesher offsets it
         FragmentMesherOptions o;
         o.kind = FragmentMesherKind::surface;
         o.surface = &k.input;

@@ -44,6 +44,7 @@ const Fixture& fixture() {
         const LevelSet object = level_set_from_mesh(f.input, kRf);
         const CrackLevelSets cracks{kRf, 3, {planar_disk_crack(kP1, kN1, 1.0, kRf), planar_disk_crack(kP2, kN2, 1.0, kRf)}};
         f.fragments = find_fragments(broken_object(object, cracks));
+        f.fragments.object = object;  // as segment.fragments sets it: the cells offset the object
         FragmentMesherOptions o;
         o.kind = FragmentMesherKind::surface;
         o.surface = &f.input;
