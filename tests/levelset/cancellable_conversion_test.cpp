@@ -5,10 +5,10 @@
 #include "nodes/levelset/level_set_grid.hpp"
 #include "nodes/shape/notched_bar.hpp"
 #include "nodes/shape/torus.hpp"
+#include "tests/levelset/thread_count.hpp"
 
 #include <gtest/gtest.h>
 #include <openvdb/tools/MeshToVolume.h>
-#include <tbb/global_control.h>
 
 #include <atomic>
 #include <chrono>
@@ -63,18 +63,8 @@ TEST(CancellableConversion, EqualsMeshToLevelSetBitForBit) {
 
 TEST(CancellableConversion, SameGridForOneAndTwoThreads) {
     const SurfaceMesh m = make_notched_bar(NotchedBarSpec{});
-    LevelSet one, two;
-    {
-        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-        one = level_set_from_mesh(m, 2.1e-3);
-    }
-    {
-        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-        two = level_set_from_mesh(m, 2.1e-3);
-    }
-    const GridDifference d = compare_grids(one, two);
-    EXPECT_EQ(d.active_only_in_a + d.active_only_in_b + d.sign_differs, 0u);
-    EXPECT_EQ(d.max_abs_difference, 0.0);
+    auto make = [&] { return level_set_from_mesh(m, 2.1e-3); };
+    testing::expect_same_grid(testing::with_threads(1, make), testing::with_threads(2, make));
 }
 
 // A run cancelled before or during the conversion ends in Cancelled, never in a grid. Raised from

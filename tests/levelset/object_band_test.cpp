@@ -12,9 +12,9 @@
 #include "nodes/shape/icosphere.hpp"
 #include "nodes/shape/notched_bar.hpp"
 #include "nodes/shape/torus.hpp"
+#include "tests/levelset/thread_count.hpp"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
@@ -131,18 +131,8 @@ TEST(ObjectBand, SphereAndCylinderMatchMeshToLevelSetOrTheExactDistance) {
 
 TEST(ObjectBand, SameGridForOneAndTwoThreads) {
     const SurfaceMesh m = make_torus(TorusSpec{});
-    LevelSet one, two;
-    {
-        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-        one = exact_level_set_from_mesh(m, 7e-4);
-    }
-    {
-        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-        two = exact_level_set_from_mesh(m, 7e-4);
-    }
-    const GridDifference d = compare_grids(one, two);
-    EXPECT_EQ(d.active_only_in_a + d.active_only_in_b + d.sign_differs, 0u);
-    EXPECT_EQ(d.max_abs_difference, 0.0);
+    auto make = [&] { return exact_level_set_from_mesh(m, 7e-4); };
+    testing::expect_same_grid(testing::with_threads(1, make), testing::with_threads(2, make));
 }
 
 }  // namespace
