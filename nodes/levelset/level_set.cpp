@@ -8,7 +8,6 @@
 #include "nodes/levelset/vdb_write.hpp"
 
 #include <openvdb/io/File.h>
-#include <openvdb/tools/Composite.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/LevelSetMeasure.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -220,8 +219,8 @@ LevelSet object_level_set(const SurfaceMesh& mesh, double r_f, double half_width
         for (const Shell& sh : shells) {
             openvdb::FloatGrid::Ptr part = shell_grid(mesh, sh.triangles, r_f, half_width, cancel);
             if (!g) g = part;
-            else if (sh.depth % 2 == 1) openvdb::tools::csgDifference(*g, *part);
-            else openvdb::tools::csgUnion(*g, *part);
+            else if (sh.depth % 2 == 1) csg_difference_polled(*g, *part, cancel);
+            else csg_union_polled(*g, *part, cancel);
         }
     }
     g->setName("object");

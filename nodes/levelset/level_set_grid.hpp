@@ -1,6 +1,6 @@
 #pragma once
 // The OpenVDB side of cf::LevelSet. Include ONLY from the OpenVDB translation units
-// (nodes/levelset/level_set.cpp, object_band.cpp, crack_grids.cpp, nodes/segment/segmentation.cpp,
+// (nodes/levelset/level_set.cpp, object_band.cpp, crack_grids.cpp, polled_csg.cpp, nodes/segment/segmentation.cpp,
 // nodes/segment/preview_render.cpp): each costs ~25 s to compile.
 #include "graph/cancel_token.hpp"
 #include "nodes/levelset/crack_grids.hpp"
@@ -63,5 +63,16 @@ void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float vo
                                              const CancelToken& cancel);
 
 openvdb::FloatGrid::Ptr exact_band_grid(const SurfaceMesh& mesh, double r_f, double half_width, const CancelToken& cancel);
+
+// openvdb::tools::csgDifference (a = max(a, -b), eq. (6.1)), csgUnion (a = min(a, b)) and
+// pruneLevelSet with OpenVDB's own node operators, bit-identical to them, but polling `cancel`
+// before every tree node (polled_csg.cpp): they throw Cancelled within milliseconds of Ctrl-C.
+// `b` is emptied; after Cancelled both grids are half-combined and must be discarded.
+void csg_difference_polled(openvdb::FloatGrid& a, openvdb::FloatGrid& b, const CancelToken& cancel);
+void csg_union_polled(openvdb::FloatGrid& a, openvdb::FloatGrid& b, const CancelToken& cancel);
+void prune_level_set_polled(openvdb::FloatTree& tree, const CancelToken& cancel);
+void prune_level_set_polled(openvdb::FloatTree& tree, float outside, float inside, const CancelToken& cancel);
+// Grid::deepCopy, value for value (every voxel and tile, metadata, transform), polled per leaf.
+openvdb::FloatGrid::Ptr deep_copy_polled(const openvdb::FloatGrid& in, const CancelToken& cancel);
 
 }  // namespace cf

@@ -8,7 +8,6 @@
 #include "nodes/domain/triangle_closest_point.hpp"
 
 #include <openvdb/tools/MeshToVolume.h>
-#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/thread/Threading.h>
 
@@ -122,7 +121,7 @@ void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float vo
     if (!trim || cancel.requested()) return;
     polled_for(n, m2v::InactivateValues<openvdb::FloatTree>(nodes, width, width), cancel);
     if (cancel.requested()) return;
-    openvdb::tools::pruneLevelSet(tree, width, -width);
+    prune_level_set_polled(tree, width, -width, cancel);
 }
 
 namespace {

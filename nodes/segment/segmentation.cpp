@@ -9,12 +9,11 @@
 #include "graph/diagnostics.hpp"
 #include "nodes/levelset/level_set_grid.hpp"
 
-#include <openvdb/tools/Composite.h>
-#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -36,9 +35,9 @@ using LeafT = FloatTree::LeafNodeType;
 LevelSet broken_object(const LevelSet& object, const CrackLevelSets& cracks) {
     ensure_openvdb_initialized();
     const auto& obj = grid_of(object);
-    openvdb::FloatGrid::Ptr out = obj.deepCopy();
+    const CancelToken cancel = CancelToken::current();  // polled per crack and, in the copies and the CSG, per node
+    openvdb::FloatGrid::Ptr out = deep_copy_polled(obj, cancel);
     const openvdb::CoordBBox obox = obj.evalActiveVoxelBoundingBox();
-    const CancelToken cancel = CancelToken::current();  // per crack: one CSG difference is one OpenVDB call
     for (std::size_t c = 0; c < cracks.cracks.size(); ++c) {
         cancel.poll();
         const LevelSet& ls = cracks.cracks[c];
@@ -51,8 +50,8 @@ LevelSet broken_object(const LevelSet& object, const CrackLevelSets& cracks) {
                                         " m; build both with the same r_f");
         if (!obox.hasOverlap(grid_of(ls).evalActiveVoxelBoundingBox()))
             throw std::invalid_argument(name + " lies entirely outside the object; move it inside or remove it");
-        openvdb::FloatGrid::Ptr crack = grid_of(ls).deepCopy();
-        openvdb::tools::csgDifference(*out, *crack);  // max(Phi_o, -Phi_c), eq. (6.1)
+        openvdb::FloatGrid::Ptr crack = deep_copy_polled(grid_of(ls), cancel);
+        csg_difference_polled(*out, *crack, cancel);  // max(Phi_o, -Phi_c), eq. (6.1)
     }
     out->setName("broken_object");
     return wrap_grid(out, object.voxel_size, object.half_width);
@@ -774,7 +773,9 @@ std::vector<Coord> output_blocks(const std::vector<const LeafT*>& leaves, const 
                 extra.push_back(leaves[l]->origin().offsetBy((slot / 9 - 1) * kLeafDim, (slot / 3 % 3 - 1) * kLeafDim,
                                                              (slot % 3 - 1) * kLeafDim));
     }
-    std::sort(extra.begin(), extra.end());
+    cancel.poll();
+    tbb::parallel_sort(extra.begin(), extra.end());  // 0.15 s serial for the 1 mm box: halved
+    cancel.poll();
     extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
     blocks.insert(blocks.end(), extra.begin(), extra.end());
     return blocks;

@@ -5,6 +5,7 @@
 #include "nodes/levelset/level_set_grid.hpp"
 #include "nodes/shape/notched_bar.hpp"
 #include "nodes/shape/torus.hpp"
+#include "tests/levelset/grid_equality.hpp"
 #include "tests/levelset/thread_count.hpp"
 
 #include <gtest/gtest.h>
@@ -35,23 +36,7 @@ void expect_bit_identical_to_mesh_to_level_set(const SurfaceMesh& mesh, double r
     const openvdb::FloatGrid& ours = grid_of(ls);
     const openvdb::FloatGrid::Ptr ref = reference_grid(mesh, r_f, ls.half_width);
     EXPECT_GT(ref->activeVoxelCount(), 10000u);
-    EXPECT_EQ(ours.activeVoxelCount(), ref->activeVoxelCount());
-    EXPECT_EQ(ours.tree().leafCount(), ref->tree().leafCount());
-    EXPECT_EQ(ours.background(), ref->background());
-    std::size_t differing = 0;
-    auto acc = ref->getConstAccessor();
-    for (auto it = ours.cbeginValueOn(); it; ++it)
-        if (!acc.isValueOn(it.getCoord()) || acc.getValue(it.getCoord()) != *it) ++differing;
-    EXPECT_EQ(differing, 0u);
-    // Interior and exterior tiles too: the same value at every tile of the reference.
-    std::size_t tiles = 0, tiles_differing = 0;
-    for (auto it = ref->cbeginValueAll(); it; ++it) {
-        if (it.isVoxelValue()) continue;
-        ++tiles;
-        if (ours.tree().getValue(it.getCoord()) != *it) ++tiles_differing;
-    }
-    EXPECT_GT(tiles, 0u);
-    EXPECT_EQ(tiles_differing, 0u);
+    testing::expect_bit_identical(ours, *ref);
 }
 
 TEST(CancellableConversion, EqualsMeshToLevelSetBitForBit) {
