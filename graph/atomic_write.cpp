@@ -4,9 +4,12 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <streambuf>
 #include <system_error>
+#include <thread>
 #include <unistd.h>
 #include <vector>
 
@@ -83,6 +86,40 @@ private:
 
 }  // namespace
 
+namespace {
+
+// The temporaries being written now, and whether the run was abandoned (and by which thread).
+struct PendingWrites {
+    std::mutex mutex;
+    std::set<std::filesystem::path> temporaries;
+    bool abandoned = false;
+    std::thread::id survivor;
+    bool may_write() const { return !abandoned || std::this_thread::get_id() == survivor; }
+};
+
+PendingWrites& pending() {
+    static PendingWrites p;
+    return p;
+}
+
+std::runtime_error abandoned_error(const std::filesystem::path& path) {
+    return std::runtime_error("not writing " + path.string() + ": the run was cancelled");
+}
+
+}  // namespace
+
+int abandon_pending_writes() {
+    PendingWrites& p = pending();
+    std::lock_guard<std::mutex> lock(p.mutex);
+    p.abandoned = true;
+    p.survivor = std::this_thread::get_id();
+    int removed = 0;
+    std::error_code ec;
+    for (const auto& tmp : p.temporaries) removed += std::filesystem::remove(tmp, ec) ? 1 : 0;
+    p.temporaries.clear();
+    return removed;
+}
+
 static std::filesystem::path temp_name(const std::filesystem::path& path) {
     static std::atomic<unsigned> counter{0};
     return path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
@@ -107,11 +144,26 @@ void write_atomically_via_path(const std::filesystem::path& path,
                                  "; choose another output name or remove it");
     }
     auto tmp = temp_name(path);
+    PendingWrites& p = pending();
+    {
+        std::lock_guard<std::mutex> lock(p.mutex);
+        if (!p.may_write()) throw abandoned_error(path);
+        p.temporaries.insert(tmp);
+    }
     try {
         write(tmp);
     } catch (...) {
+        std::lock_guard<std::mutex> lock(p.mutex);
+        p.temporaries.erase(tmp);
         std::filesystem::remove(tmp, ec);
         throw;
+    }
+    // Renamed under the lock, so an abandoning thread sees either the temporary or the final file.
+    std::lock_guard<std::mutex> lock(p.mutex);
+    p.temporaries.erase(tmp);
+    if (!p.may_write()) {
+        std::filesystem::remove(tmp, ec);
+        throw abandoned_error(path);
     }
     std::filesystem::rename(tmp, path, ec);
     if (ec) {

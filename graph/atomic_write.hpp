@@ -17,4 +17,10 @@ void write_atomically(const std::filesystem::path& path, const std::function<voi
 void write_atomically_via_path(const std::filesystem::path& path,
                                const std::function<void(const std::filesystem::path& tmp)>& write);
 
+// For a run abandoned after Ctrl-C (runtime/cancel_deadline.hpp): removes every temporary file a
+// writer has open now, and from then on only the calling thread may rename files into place (any
+// other writer throws and removes its temporary), so the process can exit without waiting for them.
+// Returns how many temporaries were removed.
+int abandon_pending_writes();
+
 }  // namespace cf::graph

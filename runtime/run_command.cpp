@@ -1,5 +1,6 @@
 #include "runtime/run_command.hpp"
 #include "runtime/run_profile.hpp"
+#include "runtime/cancel_deadline.hpp"
 
 #include "graph/atomic_write.hpp"
 #include "graph/executor.hpp"
@@ -16,6 +17,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <unistd.h>
@@ -115,13 +117,40 @@ int run_command(const RunRequest& req) {
     options.on_progress = [&](const std::string& node, double f) { progress.progress(node, f); };
     options.allow_absolute_paths = req.allow_absolute_paths;
     options.keep_outputs = false;  // the report needs the counts only; values are freed once consumed
-    graph::ExecutionResult result = graph::execute(plan, options, &progress);
+    ReportContext ctx{req.pipeline, req.overrides, req.fast, threads};
+    const auto report = out / "report.json";
+    NodeTally tally(&progress);
+    graph::ExecutionResult result;
+    {
+        // Ctrl-C within 0.5 s anywhere: nodes stop at their next poll; a run still inside a call
+        // that cannot be polled 0.3 s after the signal is abandoned (runtime/cancel_deadline.hpp).
+        const CancelDeadline deadline(g_signal, std::chrono::milliseconds(300), [&](int sig) {
+            graph::abandon_pending_writes();
+            progress.finish();
+            graph::ExecutionResult partial = tally.partial_result(plan);
+            std::string running;
+            for (const auto& n : tally.running()) running += (running.empty() ? "'" : ", '") + n + "'";
+            partial.error = "cancelled while " + (running.empty() ? std::string("a node") : "node " + running) +
+                            " was inside a call that cannot be interrupted; the run was abandoned without its result";
+            int code = sig == SIGTERM ? 143 : 130;
+            try {
+                graph::write_atomically(report, [&](std::ostream& o) { o << report_json(plan, partial, ctx); });
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "crackflow run: error: %s\n", e.what());
+                code = 1;
+            }
+            std::fprintf(stderr, "crackflow run: cancelled after %.2f s (%s); partial report in %s\n", partial.wall_seconds,
+                         partial.error.c_str(), report.string().c_str());
+            std::fflush(stderr);
+            std::fflush(stdout);
+            std::_Exit(code);  // not exit(): the abandoned call still runs on a worker thread
+        });
+        result = graph::execute(plan, options, &tally);
+    }
     std::signal(SIGINT, previous);
     std::signal(SIGTERM, previous_term);
     progress.finish();
 
-    ReportContext ctx{req.pipeline, req.overrides, req.fast, threads};
-    const auto report = out / "report.json";
     try {
         graph::write_atomically(report, [&](std::ostream& o) { o << report_json(plan, result, ctx); });
     } catch (const std::exception& e) {
