@@ -116,9 +116,31 @@ TEST(InitiateCracks, UniaxialTensionStartsCracksNormalToTheLoad) {
     const CrackInitiationReport more = initiate_cracks(again, *sol, strength_field(0.5 * sigma, 2), set);
     EXPECT_EQ(more.cracks_added, 4);
     EXPECT_EQ(more.selection.over_strength, 188);  // the 4 initiated elements are out (b)
-    EXPECT_GT(more.selection.skipped_near_front, 0);
     EXPECT_EQ(again.cracks_initiated, 8);
     expect_valid_new_cracks(again, els);
+
+    // Without a limit every candidate is decided, whatever order the (almost uniform) stresses put
+    // them in: rule (c) must skip some (an initiated element's partner triangle lies inside its
+    // hexagon, within r_c of the front), and each of the 188 is skipped, rejected or added.
+    propagate::FractureState all = s;
+    set.max_cracks = 1000;
+    const CrackInitiationReport rest = initiate_cracks(all, *sol, strength_field(0.5 * sigma, 2), set);
+    EXPECT_EQ(rest.selection.over_strength, 188);
+    EXPECT_GT(rest.selection.skipped_near_front, 0);
+    EXPECT_GT(rest.cracks_added, 0);
+    EXPECT_EQ(rest.selection.skipped_near_front + rest.selection.rejected + rest.cracks_added, 188);
+    // Rule (c) as it is applied, in the order cracks were added: each generating element was more
+    // than r_c from every front there before it (a later hexagon may come nearer to it).
+    const auto owner = crack_of_element(all, els);
+    ASSERT_EQ(static_cast<int>(owner.size()), all.num_cracks());
+    for (const auto& [e, r] : owner)
+        for (const propagate::FrontState& f : all.fronts)
+            if (f.front.region < r)
+                for (std::size_t i = 0; i < f.front.num_edges(); ++i) {
+                    const Segment seg{all.cracks.vertices[f.front.nodes[i]],
+                                      all.cracks.vertices[f.front.nodes[(i + 1) % f.front.nodes.size()]]};
+                    EXPECT_GT(segment_distance(els[e].centroid, seg), r_c) << "element " << e << ", crack " << r;
+                }
 
     // Strength above the stress: no candidate at all.
     propagate::FractureState strong = fresh_state(cube);
