@@ -5,6 +5,7 @@
 #include "nodes/levelset/level_set_grid.hpp"
 #include "nodes/shape/notched_bar.hpp"
 #include "nodes/shape/torus.hpp"
+#include "tests/levelset/cancel_midway.hpp"
 #include "tests/levelset/grid_equality.hpp"
 #include "tests/levelset/thread_count.hpp"
 
@@ -69,22 +70,13 @@ TEST(CancellableConversion, ACancelledRunThrowsCancelledWhereverTheFlagIsRaised)
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("uncancelled conversion: %.3f s\n", seconds);
     for (double f : {0.02, 0.1, 0.25, 0.4, 0.55, 0.7, 0.85}) {
-        std::atomic<bool> flag{false};
-        std::thread raiser([&] {
-            std::this_thread::sleep_for(std::chrono::duration<double>(f * seconds));
-            flag.store(true);
-        });
-        bool threw = false;
-        try {
-            const LevelSet ls = level_set_from_mesh(m, r_f, 3, 2e8, CancelToken(&flag));
+        const bool threw = testing::cancelled_midway(f * seconds, [&](const CancelToken& token) {
+            const LevelSet ls = level_set_from_mesh(m, r_f, 3, 2e8, token);
             // Finished before the flag: then it must be the whole grid.
             const GridDifference d = compare_grids(ls, whole);
             EXPECT_EQ(d.active_only_in_a + d.active_only_in_b + d.sign_differs, 0u) << f;
             EXPECT_EQ(d.max_abs_difference, 0.0) << f;
-        } catch (const Cancelled&) {
-            threw = true;
-        }
-        raiser.join();
+        });
         std::printf("flag at %.0f %% of the conversion: %s\n", 100 * f, threw ? "cancelled" : "finished first");
     }
 }

@@ -3,6 +3,7 @@
 // the trees are OpenVDB's csgDifference / csgUnion / pruneLevelSet bit for bit; cancelled, the
 // call throws Cancelled instead of returning a half-combined grid.
 #include "nodes/levelset/level_set_grid.hpp"
+#include "tests/levelset/cancel_midway.hpp"
 #include "tests/levelset/grid_equality.hpp"
 
 #include <gtest/gtest.h>
@@ -149,19 +150,10 @@ TEST(PolledCsg, ACancelledDifferenceThrowsCancelled) {
         std::printf("uncancelled difference: %.3f s, %zu active voxels\n", seconds, std::size_t(whole->activeVoxelCount()));
         for (double f : {0.05, 0.2, 0.4, 0.6, 0.8}) {
             FloatGrid::Ptr a = object->deepCopy(), c = bite->deepCopy();
-            std::atomic<bool> flag{false};
-            std::thread raiser([&] {
-                std::this_thread::sleep_for(std::chrono::duration<double>(f * seconds));
-                flag.store(true);
+            const bool threw = testing::cancelled_midway(f * seconds, [&](const CancelToken& token) {
+                csg_difference_polled(*a, *c, token);
+                testing::expect_bit_identical(*a, *whole);  // finished first: the whole result
             });
-            bool threw = false;
-            try {
-                csg_difference_polled(*a, *c, CancelToken(&flag));
-                testing::expect_bit_identical(*a, *whole);
-            } catch (const Cancelled&) {
-                threw = true;
-            }
-            raiser.join();
             std::printf("flag at %.0f %% of the difference: %s\n", 100 * f, threw ? "cancelled" : "finished first");
         }
     }
