@@ -1,6 +1,7 @@
 #include "nodes/export/mesh_checks.hpp"
 #include "nodes/export/number_text.hpp"
 #include "nodes/export/vtp_writer.hpp"
+#include "nodes/export/xml_text.hpp"
 
 #include <set>
 #include <stdexcept>
@@ -8,20 +9,6 @@
 namespace cf {
 
 namespace {
-
-std::string xml_escape(const std::string& s) {
-    std::string r;
-    for (char c : s) {
-        switch (c) {
-            case '&': r += "&amp;"; break;
-            case '<': r += "&lt;"; break;
-            case '>': r += "&gt;"; break;
-            case '"': r += "&quot;"; break;
-            default: r += c;
-        }
-    }
-    return r;
-}
 
 void check_arrays(const std::vector<VtpArray>& arrays, std::size_t tuples, const char* kind,
                   std::set<std::string>& names) {

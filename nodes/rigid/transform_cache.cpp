@@ -2,6 +2,7 @@
 
 #include "graph/atomic_write.hpp"
 #include "nodes/export/number_text.hpp"
+#include "nodes/export/xml_text.hpp"
 #include "nodes/rigid/animation_checks.hpp"
 
 #include <cstdio>
@@ -16,20 +17,6 @@ namespace {
 
 // Scalars are written kPerLine to a line, tuples one to a line (readable, diffable).
 constexpr std::size_t kPerLine = 12;
-
-std::string xml_escape(const std::string& s) {
-    std::string r;
-    for (char c : s) {
-        switch (c) {
-            case '&': r += "&amp;"; break;
-            case '<': r += "&lt;"; break;
-            case '>': r += "&gt;"; break;
-            case '"': r += "&quot;"; break;
-            default: r += c;
-        }
-    }
-    return r;
-}
 
 void separator(std::ostream& os, std::size_t i, std::size_t n, std::size_t per_line = kPerLine) {
     os << ((i + 1) % per_line == 0 || i + 1 == n ? '\n' : ' ');
