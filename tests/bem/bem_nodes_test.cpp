@@ -49,6 +49,21 @@ TEST(BemNodes, UncoveredRegionFailsNamingIt) {
         {"regions without a boundary condition"}));
 }
 
+// A solve whose numbers overflow (issue 16: E = 1e300 gave NaN displacements and a run that said ok)
+// fails naming the likely causes instead of passing NaN on. E is range-checked now, so the overflow
+// comes from loads at the edge of double precision here.
+TEST(BemNodes, ASolutionWithNonFiniteValuesFails) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(1, 1.0);
+    auto a = run_node("assemble.sgbem", {{"E", 1e9}}, {{"mesh", value(cube)}});
+    EXPECT_TRUE(cf::testing::throws<std::exception>(
+        [&] {
+            run_node("solve.sgbem",
+                     {{"boundary_conditions", std::string("z_max: traction 0 0 1.7e308; z_min: traction 0 0 -1.7e308; *: traction 0 0 0")}},
+                     {{"operators", a.outputs.at("operators")}});
+        },
+        {"non-finite values (NaN or infinity)", "physical range", "E = 1e+09 Pa"}));
+}
+
 TEST(BemNodes, PressureOnADirichletRegionIsAValidateErrorAtItsLine) {
     const std::string yaml = "nodes:\n"
                              "  box: {type: shape.box}\n"
