@@ -63,7 +63,9 @@ namespace {
 typedef double Lanes __attribute__((vector_size(8 * sizeof(double))));
 static_assert(pair_rule_padding == 8, "pair_rule_padding must equal the kernel's lane count");
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+// Not under ThreadSanitizer: the clone's resolver runs while the program is being relocated,
+// before TSan's runtime is set up, and its instrumentation crashes the process at start.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #endif
 void pair_kernel(const double* sx, const double* tx, const double* sy, const double* ty, const double* w, std::size_t n,
