@@ -51,6 +51,37 @@ bool load(const std::string& path, const std::vector<std::string>& overrides, bo
     return diags.empty();
 }
 
+int cancelled_exit_code(int sig) { return sig == SIGTERM ? 143 : 130; }  // 128 + the signal, as shells report it
+
+// report.json, atomically; false (with the error printed) if it could not be written.
+bool write_report(const std::filesystem::path& report, const graph::Plan& plan, const graph::ExecutionResult& result,
+                  const ReportContext& ctx) {
+    try {
+        graph::write_atomically(report, [&](std::ostream& o) { o << report_json(plan, result, ctx); });
+        return true;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "crackflow run: error: %s\n", e.what());
+        return false;
+    }
+}
+
+// The cancel deadline passed with a node still inside a call that cannot be polled: the report from
+// the runs that finished, then exit without waiting for that call (its pending writes are abandoned).
+[[noreturn]] void abandon_run(const graph::Plan& plan, const NodeTally& tally, const ReportContext& ctx,
+                              const std::filesystem::path& report, int sig) {
+    graph::ExecutionResult partial = tally.partial_result(plan);
+    std::string running;
+    for (const auto& n : tally.running()) running += (running.empty() ? "'" : ", '") + n + "'";
+    partial.error = "cancelled while " + (running.empty() ? std::string("a node") : "node " + running) +
+                    " was inside a call that cannot be interrupted; the run was abandoned without its result";
+    const int code = write_report(report, plan, partial, ctx) ? cancelled_exit_code(sig) : 1;
+    std::fprintf(stderr, "crackflow run: cancelled after %.2f s (%s); partial report in %s\n", partial.wall_seconds,
+                 partial.error.c_str(), report.string().c_str());
+    std::fflush(stderr);
+    std::fflush(stdout);
+    std::_Exit(code);  // not exit(): the abandoned call still runs on a worker thread
+}
+
 }  // namespace
 
 int validate_command(const std::vector<std::string>& pipelines, const std::vector<std::string>& overrides,
@@ -127,23 +158,7 @@ int run_command(const RunRequest& req) {
         const CancelDeadline deadline(g_signal, std::chrono::milliseconds(300), [&](int sig) {
             graph::abandon_pending_writes();
             progress.finish();
-            graph::ExecutionResult partial = tally.partial_result(plan);
-            std::string running;
-            for (const auto& n : tally.running()) running += (running.empty() ? "'" : ", '") + n + "'";
-            partial.error = "cancelled while " + (running.empty() ? std::string("a node") : "node " + running) +
-                            " was inside a call that cannot be interrupted; the run was abandoned without its result";
-            int code = sig == SIGTERM ? 143 : 130;
-            try {
-                graph::write_atomically(report, [&](std::ostream& o) { o << report_json(plan, partial, ctx); });
-            } catch (const std::exception& e) {
-                std::fprintf(stderr, "crackflow run: error: %s\n", e.what());
-                code = 1;
-            }
-            std::fprintf(stderr, "crackflow run: cancelled after %.2f s (%s); partial report in %s\n", partial.wall_seconds,
-                         partial.error.c_str(), report.string().c_str());
-            std::fflush(stderr);
-            std::fflush(stdout);
-            std::_Exit(code);  // not exit(): the abandoned call still runs on a worker thread
+            abandon_run(plan, tally, ctx, report, sig);
         });
         result = graph::execute(plan, options, &tally);
     }
@@ -151,16 +166,11 @@ int run_command(const RunRequest& req) {
     std::signal(SIGTERM, previous_term);
     progress.finish();
 
-    try {
-        graph::write_atomically(report, [&](std::ostream& o) { o << report_json(plan, result, ctx); });
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "crackflow run: error: %s\n", e.what());
-        return 1;
-    }
+    if (!write_report(report, plan, result, ctx)) return 1;
     if (result.cancelled) {
         std::fprintf(stderr, "crackflow run: cancelled after %.2f s; partial report in %s\n", result.wall_seconds,
                      report.string().c_str());
-        return g_signal.load() == SIGTERM ? 143 : 130;  // 128 + the signal, as shells report it
+        return cancelled_exit_code(g_signal.load());
     }
     if (!result.ok) {
         std::fprintf(stderr, "crackflow run: error: %s\n  (report: %s)\n", result.error.c_str(), report.string().c_str());

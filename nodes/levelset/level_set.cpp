@@ -88,16 +88,6 @@ std::vector<Shell> shells_of(const SurfaceMesh& mesh) {
     return shells;
 }
 
-// The triangles as meshToLevelSet hands them to meshToVolume (corners rounded to float, then to float
-// index-space points), with one addition: every corner read polls the cancel token. OpenVDB asks its
-// interrupter only per polygon while voxelising and then between phases, and the sign classification,
-// band expansion and renormalisation in between take up to a second on a fine grid of an imported mesh
-// (issue 16: Ctrl-C within 0.5 s). Those phases read triangle corners throughout, so a read on a
-// cancelled run cancels the parallel loop it runs in, as OpenVDB's own voxeliser does when interrupted
-// (thread::cancelGroupExecution: no new chunks start; running ones finish, so the trees stay
-// consistent), and the interrupter ends the conversion at its next check. The grid is then incomplete,
-// and the caller's poll() throws. On a run that is not cancelled the values are meshToLevelSet's, bit
-// for bit (test LevelSet.CancellableConversionEqualsMeshToLevelSet).
 // meshToVolume's interrupter, which also remembers the last progress figure it was asked with:
 // the band expansion starts at 54 % (OpenVDB 10's MeshToVolume.h).
 struct PhaseInterrupter : CancelInterrupter {
@@ -109,11 +99,20 @@ struct PhaseInterrupter : CancelInterrupter {
     std::atomic<int> last_percent{0};
 };
 
+// The triangles as meshToLevelSet hands them to meshToVolume (corners rounded to float, then to float
+// index-space points), with one addition: every corner read polls the cancel token. OpenVDB asks its
+// interrupter only per polygon while voxelising and then between phases, and the sign classification,
+// band expansion and renormalisation in between take up to a second on a fine grid of an imported mesh
+// (issue 16: Ctrl-C within 0.5 s). Those phases read triangle corners throughout, so a read on a
+// cancelled run cancels the parallel loop it runs in, as OpenVDB's own voxeliser does when interrupted
+// (thread::cancelGroupExecution: no new chunks start; running ones finish, so the trees stay
+// consistent), and the interrupter ends the conversion at its next check. The grid is then incomplete,
+// and the caller's poll() throws. On a run that is not cancelled the values are meshToLevelSet's, bit
+// for bit (test LevelSet.CancellableConversionEqualsMeshToLevelSet).
 struct CancellableTriangles {
     std::vector<openvdb::Vec3s> points;  // index space
     std::vector<openvdb::Vec3I> triangles;
-    CancelToken cancel;
-    const PhaseInterrupter* phase = nullptr;
+    const PhaseInterrupter* interrupter = nullptr;  // its token, and the stage meshToVolume is in
 
     std::size_t polygonCount() const { return triangles.size(); }
     std::size_t pointCount() const { return points.size(); }
@@ -124,7 +123,7 @@ struct CancellableTriangles {
         // leaves they create through raw pointers, and a cancelled reduce destroys its split bodies
         // without joining them, which leaked those leaves (LeakSanitizer, 2026-12-03). crackflow run
         // still exits within 0.3 s of Ctrl-C (runtime/cancel_deadline.hpp).
-        if (cancel.requested() && phase->last_percent.load(std::memory_order_relaxed) < 54)
+        if (interrupter->token.requested() && interrupter->last_percent.load(std::memory_order_relaxed) < 54)
             openvdb::thread::cancelGroupExecution();
         pos = points[triangles[n][int(v)]];
     }
@@ -137,7 +136,7 @@ openvdb::FloatGrid::Ptr shell_grid(const SurfaceMesh& mesh, const std::vector<Tr
     world.reserve(mesh.vertices.size());
     for (const Vec3& v : mesh.vertices) world.emplace_back(float(v.x()), float(v.y()), float(v.z()));
     PhaseInterrupter interrupter(cancel);
-    CancellableTriangles adapter{std::vector<openvdb::Vec3s>(world.size()), {}, cancel, &interrupter};
+    CancellableTriangles adapter{std::vector<openvdb::Vec3s>(world.size()), {}, &interrupter};
     // meshToLevelSet's own point transform: the same loop written here rounds some index-space
     // corners differently by one float ulp (measured on a torus: 74 of 288 points), which moves
     // band values by a few ulps.

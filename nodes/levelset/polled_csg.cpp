@@ -44,10 +44,18 @@ struct Polled {
     }
 };
 
-template <typename Op>
-void run_top_down(FloatTree& a, const Op& op, const CancelToken& cancel) {
-    openvdb::tree::DynamicNodeManager<FloatTree> nodes(a);
-    nodes.foreachTopDown(Polled<Op>{op, cancel});
+// openvdb::tools::csgDifference / csgUnion with a node operator of theirs: a = op(a, b), b emptied
+// (its nodes are moved into a), then the level-set prune.
+template <template <typename> class CsgOp>
+void csg_polled(openvdb::FloatGrid& a, openvdb::FloatGrid& b, const CancelToken& cancel) {
+    cancel.poll();
+    openvdb::tools::composite::validateLevelSet(a.tree(), "A");
+    openvdb::tools::composite::validateLevelSet(b.tree(), "B");
+    CsgOp<FloatTree> op(b.tree(), openvdb::Steal());
+    op.setPruneCancelledTiles(false);  // the tools' default (prune, no cancelled-tile pruning)
+    openvdb::tree::DynamicNodeManager<FloatTree> nodes(a.tree());
+    nodes.foreachTopDown(Polled<CsgOp<FloatTree>>{op, cancel});
+    prune_level_set_polled(a.tree(), cancel);
 }
 
 }  // namespace
@@ -95,26 +103,14 @@ void prune_level_set_polled(FloatTree& tree, float outside, float inside, const 
     nodes.foreachBottomUp(Polled<openvdb::tools::LevelSetPruneOp<FloatTree>>{op, cancel});
 }
 
-// As openvdb::tools::csgDifference(a, b): a = max(a, -b), b emptied (its nodes are moved into a).
+// As openvdb::tools::csgDifference(a, b): a = max(a, -b).
 void csg_difference_polled(openvdb::FloatGrid& a, openvdb::FloatGrid& b, const CancelToken& cancel) {
-    cancel.poll();
-    openvdb::tools::composite::validateLevelSet(a.tree(), "A");
-    openvdb::tools::composite::validateLevelSet(b.tree(), "B");
-    openvdb::tools::CsgDifferenceOp<FloatTree> op(b.tree(), openvdb::Steal());
-    op.setPruneCancelledTiles(false);  // csgDifference's default (prune, no cancelled-tile pruning)
-    run_top_down(a.tree(), op, cancel);
-    prune_level_set_polled(a.tree(), cancel);
+    csg_polled<openvdb::tools::CsgDifferenceOp>(a, b, cancel);
 }
 
-// As openvdb::tools::csgUnion(a, b): a = min(a, b), b emptied.
+// As openvdb::tools::csgUnion(a, b): a = min(a, b).
 void csg_union_polled(openvdb::FloatGrid& a, openvdb::FloatGrid& b, const CancelToken& cancel) {
-    cancel.poll();
-    openvdb::tools::composite::validateLevelSet(a.tree(), "A");
-    openvdb::tools::composite::validateLevelSet(b.tree(), "B");
-    openvdb::tools::CsgUnionOp<FloatTree> op(b.tree(), openvdb::Steal());
-    op.setPruneCancelledTiles(false);
-    run_top_down(a.tree(), op, cancel);
-    prune_level_set_polled(a.tree(), cancel);
+    csg_polled<openvdb::tools::CsgUnionOp>(a, b, cancel);
 }
 
 }  // namespace cf

@@ -386,8 +386,8 @@ TEST(Reliability, CtrlCStopsSegmentationAndPreviewWithinHalfASecond) {
         EXPECT_EQ(r.output.find("done   " + c.marker.substr(7)), std::string::npos) << c.what << "\n" << r.output;
         YAML::Node report = YAML::LoadFile((dir / "out" / "report.json").string());
         EXPECT_EQ(report["status"].as<std::string>(), "cancelled") << c.what;
-        for (const auto& e : std::filesystem::directory_iterator(dir / "out"))
-            EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << c.what << ": " << e.path();
+        for (const auto& [name, size] : files_in(dir / "out"))
+            EXPECT_EQ(name.find(".tmp"), std::string::npos) << c.what << ": " << name;
     }
 }
 
