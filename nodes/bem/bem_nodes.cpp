@@ -96,6 +96,12 @@ void count_assembly(graph::NodeContext& c, const bem::AssemblyRequest& rq, const
                     const bem::BemOperators& out) {
     c.count("surface_reused", rep.surface_reused ? 1 : 0);
     c.count("surface_pairs_computed", rep.surface_reused ? 0.0 : static_cast<double>(out.surface->pairs_computed));
+    if (!rep.surface_reused) {
+        // The quadrature's rigid-motion error before K's rows were corrected (rigid_motion_rows.hpp):
+        // a few 1e-2 on remeshed scans, order 1 for a surface that is open or inside out.
+        c.count("rigid_motion_residual", out.surface->rigid_motion.max_residual);
+        c.count("rigid_motion_rows", out.surface->rigid_motion.applied ? 1 : 0);
+    }
     c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
     c.count("tip_pairs_computed", static_cast<double>(rep.tip_pairs));
     c.count("tip_pairs_reused", static_cast<double>(rep.tip_pairs_reused));

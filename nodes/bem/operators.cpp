@@ -1,6 +1,7 @@
 #include "nodes/bem/operators.hpp"
 
 #include "nodes/bem/surface_intersection.hpp"
+#include "nodes/domain/mesh_topology.hpp"
 
 #include "graph/cancel_token.hpp"
 
@@ -160,6 +161,11 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
     if (options.single_layer) mirror_upper_blocks(V);
     add_transpose(KU, KLT);
     KLT.resize(0, 0);
+    if (options.rigid_motion_rows) {
+        const MeshTopologyReport topo = check_topology(mesh);
+        out->rigid_motion = impose_rigid_motion_rows(KU, mesh.vertices, g,
+                                                     topo.closed() && topo.manifold() && topo.consistently_oriented());
+    }
     out->D = H;
     add_transpose(out->D, H);
     out->pairs_computed = static_cast<std::int64_t>(M) * (M + 1) / 2;

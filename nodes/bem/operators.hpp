@@ -9,6 +9,7 @@
 #include "nodes/bem/element_geometry.hpp"
 #include "nodes/bem/local_blocks.hpp"
 #include "nodes/bem/pair_integrals.hpp"
+#include "nodes/bem/rigid_motion_rows.hpp"
 #include "nodes/domain/material.hpp"
 #include "nodes/domain/surface_mesh.hpp"
 
@@ -27,6 +28,9 @@ using Vector = Eigen::VectorXd;
 struct AssemblyOptions {
     QuadratureSettings quadrature;
     bool single_layer = true;             // V is needed only when some region is Dirichlet
+    // K's rows reproduce the six rigid motions exactly (rigid_motion_rows.hpp). Off only to see the
+    // raw quadrature (the oracle comparisons and the rigid_body_kernel verification case).
+    bool rigid_motion_rows = true;
     double memory_budget_bytes = default_memory_budget_bytes();  // refuse dense allocations above this
 };
 
@@ -41,6 +45,7 @@ struct SurfaceOperators {
     Matrix K;  // 3M x 3N  P0 test x P1 trial
     Matrix D;  // 3N x 3N
     std::int64_t pairs_computed = 0;  // element-pair integrals evaluated
+    RigidMotionRows rigid_motion;     // K's rigid-motion residual before its correction, and whether it was made
 };
 
 // Crack sheets Sigma (open triangle sheets; one SurfaceMesh, its regions are the cracks) and the
