@@ -524,6 +524,50 @@ std::vector<Triangle3> strip_triangles(const FrontMotion& m) {
     return tris;
 }
 
+std::vector<Triangle3> surface_closure_triangles(const FrontMotion& m, const LevelSet& object) {
+    std::vector<Triangle3> tris;
+    const std::size_t n = m.p0.size();
+    const double r_f = object.voxel_size;
+    const std::size_t pairs = m.closed ? n : (n == 0 ? 0 : n - 1);
+    for (std::size_t i = 0; i < pairs; ++i) {
+        const std::size_t j = (i + 1) % n;
+        const bool still_i = m.p0[i] == m.p1[i], still_j = m.p0[j] == m.p1[j];
+        if (still_i == still_j) continue;                       // not a fan
+        const std::size_t a = still_i ? i : j, b = still_i ? j : i;  // a stopped, b moving
+        if (!(sample(object, m.p0[a]) > -2 * r_f) || !(sample(object, m.p1[b]) > -2 * r_f)) continue;
+        const Vec3 chord = m.p1[b] - m.p0[a];
+        const Vec3 inward = m.p0[b] - m.p0[a];
+        const Vec3 plane = chord.cross(inward);
+        if (!(plane.norm() > 1e-12 * chord.norm() * inward.norm())) continue;
+        Vec3 out = chord.cross(plane).normalized();
+        if (out.dot(inward) > 0) out = -out;
+        // Between a chord whose ends both lie at the surface and a convex corner of the surface, the
+        // plane is at most half the chord wide (a right-angled corner); further out it is not closed.
+        const double reach = 0.5 * chord.norm();
+        const int samples = std::max(1, int(std::ceil(chord.norm() / r_f)));
+        std::vector<Vec3> base, tip;
+        bool any = false;
+        for (int k = 0; k <= samples; ++k) {
+            const Vec3 c = m.p0[a] + (double(k) / samples) * chord;
+            double width = 0;
+            for (double t = 0; t <= reach; t += 0.5 * r_f)
+                if (sample(object, c + t * out) > 0) {
+                    width = t + r_f;
+                    break;
+                }
+            any = any || width > 0;
+            base.push_back(c);
+            tip.push_back(c + width * out);
+        }
+        if (!any) continue;
+        for (int k = 0; k < samples; ++k) {
+            tris.push_back({base[k], base[k + 1], tip[k + 1]});
+            tris.push_back({base[k], tip[k + 1], tip[k]});
+        }
+    }
+    return tris;
+}
+
 MarkerTest test_marker(const LevelSet* object, const std::vector<LevelSet>& cracks, int own, const Vec3& p0,
                        const Vec3& p1) {
     MarkerTest r;
@@ -647,7 +691,12 @@ std::vector<std::vector<MarkerTest>> CrackRecorder::record_substep(const std::ve
     // Phase 2: each crack writes only its own grid, so cracks run in parallel.
     std::vector<std::size_t> written(motions.size(), 0);
     tbb::parallel_for(std::size_t(0), motions.size(), [&](std::size_t c) {
-        written[c] = add_triangles(int(c), strip_triangles(motions[c]));
+        std::vector<Triangle3> tris = strip_triangles(motions[c]);
+        if (object) {
+            const std::vector<Triangle3> closure = surface_closure_triangles(motions[c], *object);
+            tris.insert(tris.end(), closure.begin(), closure.end());
+        }
+        written[c] = add_triangles(int(c), tris);
     });
     if (voxels_written) {
         *voxels_written = 0;

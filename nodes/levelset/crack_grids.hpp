@@ -48,6 +48,19 @@ struct MarkerTest {
 // whose segment an earlier strip already holds).
 std::vector<Triangle3> strip_triangles(const FrontMotion& m);
 
+// Closes the crack onto the object's surface across corners. Fig. 27 stops a marker once it leaves
+// the object, and a neighbour that stopped earlier stays where it stopped; the fan between them
+// (strip_triangles) then ends at the chord from the stopped marker to the other's new position,
+// which cuts across the object's corner where the two left through different faces of an edge.
+// Nothing sweeps the part of the crack's plane between that chord and the surface, and along the
+// edge it is a bridge of inside voxels that keeps the pieces on both sides of the crack in one
+// fragment (edge_crack_mode2 with square-root fronts: a bridge along the cube's vertical edge, up to
+// 4 voxels wide). For every fan whose two ends lie within 2 r_f of the surface, the plane is
+// continued outwards from its chord (perpendicular to it, away from the fan), every r_f along it,
+// to r_f past the surface where that lies within half the chord's length (the widest a convex
+// corner can be); nothing is added where the surface is not reached.
+std::vector<Triangle3> surface_closure_triangles(const FrontMotion& m, const LevelSet& object);
+
 // Marker tests of fig. 27 against grids holding the state up to the previous sub-step:
 // (a) Phi_o(p1) > 0; (b) Phi_f(x) < 0 for some x on p0 -> p1 and another crack f, sampled every
 // r_f/4 so no crossing of the sqrt(3) r_f thick crack volume is missed; (c) eq. (6.2) on the
