@@ -161,11 +161,7 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
     if (options.single_layer) mirror_upper_blocks(V);
     add_transpose(KU, KLT);
     KLT.resize(0, 0);
-    if (options.rigid_motion_rows) {
-        const MeshTopologyReport topo = check_topology(mesh);
-        out->rigid_motion = impose_rigid_motion_rows(KU, mesh.vertices, g,
-                                                     topo.closed() && topo.manifold() && topo.consistently_oriented());
-    }
+    if (options.rigid_motion_rows) out->rigid_motion = impose_rigid_motion_rows(KU, g, check_topology(mesh).is_closed_manifold());
     out->D = H;
     add_transpose(out->D, H);
     out->pairs_computed = static_cast<std::int64_t>(M) * (M + 1) / 2;

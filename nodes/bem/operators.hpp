@@ -28,7 +28,7 @@ using Vector = Eigen::VectorXd;
 struct AssemblyOptions {
     QuadratureSettings quadrature;
     bool single_layer = true;             // V is needed only when some region is Dirichlet
-    // K's rows reproduce the six rigid motions exactly (rigid_motion_rows.hpp). Off only to see the
+    // K's rows reproduce the rigid translations exactly (rigid_motion_rows.hpp). Off only to see the
     // raw quadrature (the oracle comparisons and the rigid_body_kernel verification case).
     bool rigid_motion_rows = true;
     double memory_budget_bytes = default_memory_budget_bytes();  // refuse dense allocations above this

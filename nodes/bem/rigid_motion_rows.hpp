@@ -31,8 +31,7 @@ struct RigidMotionRows {
 // K (3M x 3N, P0 test x P1 trial). `closed_oriented`: the mesh is a closed, consistently oriented
 // 2-manifold. Rows are corrected only when every row's translation residual is below
 // `limit` (a quadrature error; an inside-out or open surface gives residuals of order 1).
-RigidMotionRows impose_rigid_motion_rows(Eigen::MatrixXd& K, const std::vector<Vec3>& vertices,
-                                         const std::vector<ElementGeometry>& geometry, bool closed_oriented,
-                                         double limit = 0.05);
+RigidMotionRows impose_rigid_motion_rows(Eigen::MatrixXd& K, const std::vector<ElementGeometry>& geometry,
+                                         bool closed_oriented, double limit = 0.05);
 
 }  // namespace cf::bem

@@ -92,7 +92,8 @@ public:
 
     // One sub-step for all cracks: motions[c] is crack c's front motion (p0 = previous front).
     // First tests every moving marker against the grids as they were (fig. 27), then records
-    // each crack's new strip, in parallel across cracks. Returns tests[c][i].
+    // each crack's new strip (with its surface_closure_triangles when `object` is given), in
+    // parallel across cracks. Returns tests[c][i].
     std::vector<std::vector<MarkerTest>> record_substep(const std::vector<FrontMotion>& motions,
                                                         const LevelSet* object, std::size_t* voxels_written = nullptr);
 

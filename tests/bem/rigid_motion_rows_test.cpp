@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 using namespace cf;
 using namespace cf::bem;
@@ -30,6 +31,13 @@ SurfaceMesh slab() {
     SurfaceMesh m = bem_cube_mesh(3, 1.0);
     for (Vec3& v : m.vertices) v.z() *= 0.2;
     return m;
+}
+
+// The surface operators of `m` in PMMA, with or without the rigid-motion rows.
+std::shared_ptr<const SurfaceOperators> operators(const SurfaceMesh& m, bool rows) {
+    AssemblyOptions opt;
+    opt.rigid_motion_rows = rows;
+    return assemble_surface_operators(m, pmma(), opt);
 }
 
 // max over rows of |(1/2 M01 + K) r| / |a| for the unit translations (modes 0-2) or the unit
@@ -69,11 +77,8 @@ StrainErrors uniform_strain(const SurfaceMesh& mesh, bool rows) {
     eps << 1.0, 0.3, -0.2, 0.3, -0.5, 0.4, -0.2, 0.4, 0.8;
     eps *= 1e-3;
     const Material mat = pmma();
-    const double lambda = mat.E * mat.nu / ((1 + mat.nu) * (1 - 2 * mat.nu)), mu = mat.E / (2 * (1 + mat.nu));
-    const Mat3 sigma = lambda * eps.trace() * Mat3::Identity() + 2 * mu * eps;
-    AssemblyOptions opt;
-    opt.rigid_motion_rows = rows;
-    const auto ops = assemble_surface_operators(m, mat, opt);
+    const Mat3 sigma = mat.lambda() * eps.trace() * Mat3::Identity() + 2 * mat.mu() * eps;  // Hooke
+    const auto ops = operators(m, rows);
     ResolvedConditions rc = resolve(parse_boundary_conditions("bottom: displacement 0 0 0; free: traction 0 0 0"), m);
     for (std::size_t v = 0; v < m.num_vertices(); ++v)
         if (rc.node_fixed[v]) rc.displacement[v] = eps * m.vertices[v];
@@ -94,10 +99,7 @@ StrainErrors uniform_strain(const SurfaceMesh& mesh, bool rows) {
 
 TEST(RigidMotionRows, EveryRowReproducesTheTranslations) {
     const SurfaceMesh m = slab();
-    AssemblyOptions raw;
-    raw.rigid_motion_rows = false;
-    const auto before = assemble_surface_operators(m, pmma(), raw);
-    const auto after = assemble_surface_operators(m, pmma(), AssemblyOptions{});
+    const auto before = operators(m, false), after = operators(m, true);
     const double r_before = rigid_row_residual(*before, 0, 2), r_after = rigid_row_residual(*after, 0, 2);
     // The raw quadrature misses Gauss's identity by a quadrature error (here a few 1e-3); corrected,
     // what is left is rounding.
@@ -119,10 +121,7 @@ TEST(RigidMotionRows, EveryRowReproducesTheTranslations) {
 
 TEST(RigidMotionRows, OnlyEachRowsOwnVertexBlocksChange) {
     const SurfaceMesh m = slab();
-    AssemblyOptions raw;
-    raw.rigid_motion_rows = false;
-    const auto before = assemble_surface_operators(m, pmma(), raw);
-    const auto after = assemble_surface_operators(m, pmma(), AssemblyOptions{});
+    const auto before = operators(m, false), after = operators(m, true);
     std::size_t changed_elsewhere = 0, changed_own = 0;
     for (std::size_t a = 0; a < m.num_triangles(); ++a)
         for (std::size_t j = 0; j < m.num_vertices(); ++j) {
@@ -138,16 +137,14 @@ TEST(RigidMotionRows, OpenOrInsideOutSurfacesAreLeftAlone) {
     SurfaceMesh open = slab();
     open.triangles.pop_back();
     if (!open.region.empty()) open.region.pop_back();
-    AssemblyOptions raw;
-    raw.rigid_motion_rows = false;
-    const auto o = assemble_surface_operators(open, pmma(), AssemblyOptions{});
+    const auto o = operators(open, true);
     EXPECT_FALSE(o->rigid_motion.applied);
-    EXPECT_TRUE(o->K == assemble_surface_operators(open, pmma(), raw)->K);
+    EXPECT_TRUE(o->K == operators(open, false)->K);
     // Inside out, Gauss's integral is +1/2 instead of -1/2: the residual is |a| I (Frobenius norm
     // sqrt(3) |a|), far above any quadrature error.
     SurfaceMesh flipped = slab();
     for (Tri& t : flipped.triangles) std::swap(t[1], t[2]);
-    const auto f = assemble_surface_operators(flipped, pmma(), AssemblyOptions{});
+    const auto f = operators(flipped, true);
     EXPECT_FALSE(f->rigid_motion.applied);
     EXPECT_NEAR(f->rigid_motion.max_residual, std::sqrt(3.0), 0.05);
 }
