@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -357,10 +358,67 @@ void extend_schur(const SurfaceSystem& sys, const CrackOperators& cr, const Crac
     extend_schur_by(sys, cr, old, fresh, budget, schur, sol);
 }
 
-// Square-root front elements: the previous factor's settled part (nodes whose elements were all plain)
-// kept, the rest of the unknowns (the nodes near the front, whose basis changes as the front moves)
-// appended in the same block Cholesky update as extend_schur. Returns false (nothing done) when the
-// previous factor cannot be used: another surface system, or an old settled node whose support changed.
+// Square-root front elements: which crack nodes' basis functions are those of the previous solve's
+// operators (every element at the node existed then, with the same nodes, place and kind, and none
+// joined it). The blocks between two such nodes are bit for bit those of the step before (tip_elements:
+// the same corrections added in the same order; the P1 blocks are append-only), so the part of the
+// previous Schur factor on a leading run of them stands.
+std::vector<char> unchanged_basis(const CrackOperators& cr, const TipBasis& basis, const CrackOperators& prev) {
+    const std::size_t old_elements = prev.cracks.num_triangles();
+    std::vector<char> same(cr.cracks.num_vertices(), 1);
+    const TipBasis before = tip_basis(prev.cracks);
+    for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e) {
+        const bool kept = e < old_elements && prev.geometry[e].nodes == cr.geometry[e].nodes && prev.geometry[e].p == cr.geometry[e].p &&
+                          same_tip_kind(before.kind[e], basis.kind[e]);
+        if (!kept)
+            for (int v : cr.cracks.triangles[e]) same[v] = 0;
+    }
+    for (std::size_t v = prev.cracks.num_vertices(); v < same.size(); ++v) same[v] = 0;
+    return same;
+}
+
+// The unknowns' order for a new factor: the kept prefix of the old order, then the rest, the nodes
+// least likely to change next first: settled nodes (every element at them plain; their basis never
+// changes again), then by how many solves their basis has stood (a crack whose front stopped keeps its
+// nodes), then by index (deterministic). Returns the length of the kept prefix.
+std::size_t order_tip_unknowns(const CrackOperators& cr, const std::vector<int>& dof_nodes, const CrackSchur* old,
+                               const std::vector<char>* same, CrackSchur& schur) {
+    const TipBasis basis = tip_basis(cr.cracks);
+    std::vector<char> settled(cr.cracks.num_vertices(), 1);
+    for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
+        if (basis.kind[e].type != TipElementKind::plain)
+            for (int v : cr.cracks.triangles[e]) settled[v] = 0;
+    for (std::size_t v = 0; v < cr.cracks.num_vertices(); ++v)
+        if (basis.front[v]) settled[v] = 0;
+    std::vector<int> stood(cr.cracks.num_vertices(), 1);  // solves the node's basis has stood, counting this one
+    std::size_t kept = 0;
+    if (old && same) {
+        for (std::size_t k = 0; k < old->dof_nodes.size(); ++k) {
+            const int v = old->dof_nodes[k];
+            if (v < static_cast<int>(same->size()) && (*same)[v]) stood[v] = old->stood[k] + 1;
+        }
+        while (kept < old->dof_nodes.size() && stood[old->dof_nodes[kept]] > 1) ++kept;
+    }
+    std::vector<char> in_prefix(cr.cracks.num_vertices(), 0);
+    schur.dof_nodes.assign(old ? old->dof_nodes.begin() : dof_nodes.begin(),
+                           old ? old->dof_nodes.begin() + static_cast<std::ptrdiff_t>(kept) : dof_nodes.begin());
+    for (int v : schur.dof_nodes) in_prefix[v] = 1;
+    std::vector<int> rest;
+    for (int v : dof_nodes)
+        if (!in_prefix[v]) rest.push_back(v);
+    const int forever = std::numeric_limits<int>::max();
+    auto key = [&](int v) { return settled[v] ? forever : stood[v]; };
+    std::sort(rest.begin(), rest.end(), [&](int a, int b) { return key(a) != key(b) ? key(a) > key(b) : a < b; });
+    schur.dof_nodes.insert(schur.dof_nodes.end(), rest.begin(), rest.end());
+    schur.stood.resize(schur.dof_nodes.size());
+    for (std::size_t k = 0; k < schur.dof_nodes.size(); ++k) schur.stood[k] = stood[schur.dof_nodes[k]];
+    return kept;
+}
+
+// Square-root front elements: the previous factor kept on its leading run of nodes whose basis did not
+// change, the other unknowns appended in the same block Cholesky update as extend_schur. Returns false
+// (nothing done) when nothing of the previous factor can be kept: another surface system, or its first
+// node changed.
 bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const BemSolution* previous, const std::vector<int>& dof_nodes,
                       const SolveOptions& options, double budget, CrackSchur& schur, BemSolution& sol) {
     const CrackSchur* old = previous ? previous->schur.get() : nullptr;
@@ -371,44 +429,23 @@ bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const 
         // Nothing new was integrated and no element joined: the blocks are those of the step before
         // (the same corrections added in the same order), so is the factor.
         schur = *old;
+        for (int& n : schur.stood) ++n;
         sol.extended_schur = true;
         sol.schur_rows_added = 0;
         return true;
     }
-    const TipBasis basis = tip_basis(cr.cracks);
-    // Settled now: every element at the node plain.
-    std::vector<char> settled(cr.cracks.num_vertices(), 1);
-    for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
-        if (basis.kind[e].type != TipElementKind::plain)
-            for (int v : cr.cracks.triangles[e]) settled[v] = 0;
-    for (std::size_t v = 0; v < cr.cracks.num_vertices(); ++v)
-        if (basis.front[v]) settled[v] = 0;
-    std::vector<char> in_old(cr.cracks.num_vertices(), 0);
-    for (std::size_t k = 0; k < old->settled; ++k) {
-        const int v = old->dof_nodes[k];
-        if (v >= static_cast<int>(settled.size()) || !settled[v]) return false;
-        in_old[v] = 1;
-    }
-    // An old settled node in a new triangle would have a new basis function.
-    for (std::size_t t = old->crack_triangles; t < cr.cracks.num_triangles(); ++t)
-        for (int v : cr.cracks.triangles[t])
-            if (in_old[v]) return false;
-    CrackSchur kept;
-    kept.dof_nodes.assign(old->dof_nodes.begin(), old->dof_nodes.begin() + static_cast<std::ptrdiff_t>(old->settled));
-    const Eigen::Index ks = 3 * static_cast<Eigen::Index>(old->settled);
-    kept.Z = old->Z.leftCols(ks);
-    kept.L = old->L.topLeftCorner(ks, ks);
-    // Newly settled nodes first (they become part of the kept prefix next step), then the others.
-    std::vector<int> fresh, active;
-    for (int v : dof_nodes) {
-        if (in_old[v]) continue;
-        (settled[v] ? fresh : active).push_back(v);
-    }
-    const std::size_t new_settled = old->settled + fresh.size();
-    fresh.insert(fresh.end(), active.begin(), active.end());
-    if (kept.dof_nodes.empty()) return false;  // nothing to keep: factor anew
-    extend_schur_by(sys, cr, kept, fresh, budget, schur, sol);
-    schur.settled = new_settled;
+    const std::vector<char> same = unchanged_basis(cr, tip_basis(cr.cracks), *previous->cracks);
+    CrackSchur ordered;
+    const std::size_t kept = order_tip_unknowns(cr, dof_nodes, old, &same, ordered);
+    if (kept == 0) return false;  // nothing to keep: factor anew
+    CrackSchur prefix;
+    prefix.dof_nodes.assign(ordered.dof_nodes.begin(), ordered.dof_nodes.begin() + static_cast<std::ptrdiff_t>(kept));
+    const Eigen::Index ks = 3 * static_cast<Eigen::Index>(kept);
+    prefix.Z = old->Z.leftCols(ks);
+    prefix.L = old->L.topLeftCorner(ks, ks);
+    const std::vector<int> fresh(ordered.dof_nodes.begin() + static_cast<std::ptrdiff_t>(kept), ordered.dof_nodes.end());
+    extend_schur_by(sys, cr, prefix, fresh, budget, schur, sol);
+    schur.stood = ordered.stood;
     return true;
 }
 
@@ -439,20 +476,10 @@ std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<cha
 // The Schur complement S = Y - C A^-1 B on the crack unknowns (eq. 4.3), factorised anew.
 void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<char>& interior, double budget,
                   CrackSchur& schur, BemSolution& sol) {
-    schur.dof_nodes = crack_dof_nodes(cr, interior);
-    if (cr.tip_elements) {
-        // Settled nodes (every element at them plain P1) first, so that the next step can keep their factor.
-        const TipBasis basis = tip_basis(cr.cracks);
-        std::vector<char> settled(cr.cracks.num_vertices(), 1);
-        for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
-            if (basis.kind[e].type != TipElementKind::plain)
-                for (int v : cr.cracks.triangles[e]) settled[v] = 0;
-        std::vector<int> first, rest;
-        for (int v : schur.dof_nodes) (settled[v] && !basis.front[v] ? first : rest).push_back(v);
-        schur.settled = first.size();
-        first.insert(first.end(), rest.begin(), rest.end());
-        schur.dof_nodes = first;
-    }
+    // Square-root front elements: the nodes least likely to change first, so that the next step can keep
+    // the factor on them (order_tip_unknowns).
+    if (cr.tip_elements) order_tip_unknowns(cr, crack_dof_nodes(cr, interior), nullptr, nullptr, schur);
+    else schur.dof_nodes = crack_dof_nodes(cr, interior);
     check_memory_budget(schur_bytes(double(sys.size()), 3.0 * double(schur.dof_nodes.size())), budget,
                         "the crack Schur complement (eq. 4.3) on " + std::to_string(3 * schur.dof_nodes.size()) +
                             " crack unknowns");

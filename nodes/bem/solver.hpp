@@ -44,9 +44,10 @@ struct CrackSchur {
     std::size_t crack_triangles = 0; // crack elements it was built from
     Matrix Z;                        // A^-1 B  (size(s) x 3 dofs)
     Matrix L;                        // lower Cholesky factor of S (symmetrised)
-    // Square-root front elements: the leading `settled` unknowns are nodes whose elements are all plain
-    // P1 (their columns of W, X and Y no longer change), so the next step can keep that part of the factor.
-    std::size_t settled = 0;
+    // Square-root front elements: per unknown node (dof_nodes' order), the number of solves its basis
+    // function has stood unchanged, counting this one (1: new or changed). The next step keeps the factor
+    // on the leading run of nodes whose basis still stands, and orders the rest by this.
+    std::vector<int> stood;
 };
 
 struct SolveOptions {

@@ -12,6 +12,11 @@
 
 namespace cf::bem {
 
+bool same_tip_kind(const TipElementKind& x, const TipElementKind& y) {
+    return x.type == y.type && x.local == y.local && x.front == y.front && x.chord == y.chord &&
+           x.chord_value[0] == y.chord_value[0] && x.chord_value[1] == y.chord_value[1] && x.chord_value[2] == y.chord_value[2];
+}
+
 TipBasis tip_basis(const SurfaceMesh& cracks) {
     TipBasis b;
     const std::vector<char> interior = crack_interior_nodes(cracks);
@@ -586,10 +591,6 @@ namespace {
 
 // tip_crack_operators' steps, in the order it calls them.
 
-bool same_kind(const TipElementKind& x, const TipElementKind& y) {
-    return x.type == y.type && x.local == y.local && x.front == y.front && x.chord == y.chord &&
-           x.chord_value[0] == y.chord_value[0] && x.chord_value[1] == y.chord_value[1] && x.chord_value[2] == y.chord_value[2];
-}
 // Where an element is: its node ids and positions (what its corrections depend on besides the kind).
 struct Place {
     Tri nodes{};
@@ -723,7 +724,7 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     std::vector<int> fresh_columns;
     for (int b : touched) {
         const auto it = old ? old->columns.find(b) : decltype(old->columns.end()){};
-        if (old && it != old->columns.end() && same_kind(it->second->kind, basis.kind[b]) && same_place(it->second->where, gc[b]))
+        if (old && it != old->columns.end() && same_tip_kind(it->second->kind, basis.kind[b]) && same_place(it->second->where, gc[b]))
             cache->columns[b] = it->second;
         else
             fresh_columns.push_back(b);
@@ -734,7 +735,7 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
             const int a = static_cast<int>(ai);
             if (is_touched[a] && a > b) continue;  // that pair is a's
             const auto it = old ? old->pairs.find({b, a}) : decltype(old->pairs.end()){};
-            if (old && it != old->pairs.end() && same_kind(it->second->ka, basis.kind[a]) && same_kind(it->second->kb, basis.kind[b]) &&
+            if (old && it != old->pairs.end() && same_tip_kind(it->second->ka, basis.kind[a]) && same_tip_kind(it->second->kb, basis.kind[b]) &&
                 same_place(it->second->a_where, gc[a]) && same_place(it->second->b_where, gc[b]))
                 cache->pairs[{b, a}] = it->second;
             else

@@ -57,6 +57,9 @@ struct TipElementKind {
     double chord_value[3] = {0, 0, 0};  // c of each chord (rho at its midpoint)
 };
 
+// Whether two elements' rho is the same function of their barycentric coordinates.
+bool same_tip_kind(const TipElementKind& x, const TipElementKind& y);
+
 struct TipBasis {
     std::vector<char> front;             // per crack node: on the sheet's boundary
     std::vector<TipElementKind> kind;    // per crack element

@@ -2,6 +2,7 @@
 #include "nodes/bem/assembly_step.hpp"
 #include "nodes/bem/bem_verification.hpp"
 #include "nodes/bem/test_meshes.hpp"
+#include "nodes/bem/tip_elements.hpp"
 #include "tests/harness/expect_error.hpp"
 
 #include <gtest/gtest.h>
@@ -100,6 +101,62 @@ TEST(BemCracks, AppendOnlyAssemblyAndSchurExtensionMatchFullSolve) {
     // Opening points along +n (tension opens the crack) and front nodes carry none.
     EXPECT_GT(s3->crack_opening[0].z(), 0);
     EXPECT_EQ(s3->crack_opening.back().norm(), 0.0);
+}
+
+namespace {
+// Two crack sheets in one mesh, numbered as the append-only assembly requires: disk A's first `rings`
+// rings, then all of disk B, then A's further rings appended after B.
+SurfaceMesh two_sheets(const SurfaceMesh& a, int first_rings_a, int rings_a, const SurfaceMesh& b) {
+    const SurfaceMesh a0 = first_rings(a, first_rings_a), a1 = first_rings(a, rings_a);
+    const int na0 = static_cast<int>(a0.num_vertices()), nb = static_cast<int>(b.num_vertices());
+    SurfaceMesh m = a0;
+    for (const Vec3& p : b.vertices) m.vertices.push_back(p);
+    for (const Tri& t : b.triangles) m.triangles.push_back({t[0] + na0, t[1] + na0, t[2] + na0});
+    for (std::size_t v = a0.num_vertices(); v < a1.num_vertices(); ++v) m.vertices.push_back(a1.vertices[v]);
+    for (std::size_t t = a0.num_triangles(); t < a1.num_triangles(); ++t) {
+        Tri r = a1.triangles[t];
+        for (int& v : r) v = v < na0 ? v : v + nb;
+        m.triangles.push_back(r);
+    }
+    m.region.assign(m.triangles.size(), 0);
+    return m;
+}
+}  // namespace
+
+// Square-root front elements: a step keeps the previous Schur factor on every node whose basis did not
+// change (here all of a sheet whose front stood still), not only on nodes whose elements are all plain,
+// and gives the fresh factorisation's answer.
+TEST(BemCracks, SquareRootSchurKeepsTheNodesOfASheetThatStoodStill) {
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    const auto o = assemble_surface_operators(bem_cube_mesh(3, 10.0), unit_material(), opt);
+    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), o->mesh);
+    const SurfaceMesh a = bem_disk_mesh(5, 1.5, Vec3(-2.2, 0, 0)), b = bem_disk_mesh(3, 1.0, Vec3(2.2, 0.3, 0));
+    std::shared_ptr<const CrackOperators> p1, tip;
+    std::shared_ptr<const BemSolution> sol;
+    for (int rings = 3; rings <= 5; ++rings) {  // A grows by a ring a step, B stands
+        const SurfaceMesh m = two_sheets(a, 3, rings, b);
+        p1 = append_crack_elements(*o, p1, m);
+        tip = tip_crack_operators(*o, *p1, tip.get());
+        sol = solve_sgbem(o, tip, bc, {}, sol.get());
+    }
+    const auto fresh = solve_sgbem(o, tip, bc, {}, nullptr);
+    // Every node of both sheets carries an unknown (front nodes their square-root coefficient). Kept at
+    // the last step: all of B's nodes and A's rings 0-2, whose elements were plain at the step before and
+    // still are; A's rings 3 (its elements were front elements) and 4 (a front ring then) changed.
+    auto disk_nodes = [](int r) { return 1 + 3 * r * (r + 1); };
+    const std::size_t dofs = disk_nodes(5) + disk_nodes(3), kept = disk_nodes(3) + disk_nodes(2);
+    EXPECT_TRUE(sol->extended_schur);
+    EXPECT_EQ(sol->schur_rows_added, 3 * (dofs - kept));
+    EXPECT_EQ(fresh->schur_rows_added, 3 * dofs);
+    double diff = 0, ref = 0;
+    for (std::size_t v = 0; v < tip->cracks.num_vertices(); ++v) {
+        diff = std::max({diff, (sol->crack_opening[v] - fresh->crack_opening[v]).norm(),
+                         (sol->front_coefficient[v] - fresh->front_coefficient[v]).norm()});
+        ref = std::max({ref, fresh->crack_opening[v].norm(), fresh->front_coefficient[v].norm()});
+    }
+    EXPECT_GT(ref, 0);
+    EXPECT_LT(diff, 1e-9 * ref);
 }
 
 TEST(BemCracks, BadCrackInputsGiveClearErrors) {
