@@ -623,7 +623,9 @@ struct TipCache {
     };
     const SurfaceOperators* surface = nullptr;
     std::map<int, std::shared_ptr<const Columns>> columns;
-    std::map<std::pair<int, int>, std::shared_ptr<const Pair>> pairs;  // (b, a)
+    // Sorted by key (b, a): built in that order each step and read back with a cursor, so a step with
+    // hundreds of thousands of kept pairs costs no tree of them.
+    std::vector<std::pair<std::pair<int, int>, std::shared_ptr<const Pair>>> pairs;
 };
 
 namespace {
@@ -729,21 +731,29 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
         else
             fresh_columns.push_back(b);
     }
-    std::vector<std::pair<int, int>> fresh_pairs;  // (b, a)
+    std::vector<std::size_t> fresh_pairs;  // indices into cache->pairs, whose entries are filled below
+    std::size_t cursor = 0;               // into old->pairs: keys come in the same (sorted) order
     for (int b : touched)
         for (std::size_t ai = 0; ai < gc.size(); ++ai) {
             const int a = static_cast<int>(ai);
             if (is_touched[a] && a > b) continue;  // that pair is a's
-            const auto it = old ? old->pairs.find({b, a}) : decltype(old->pairs.end()){};
-            if (old && it != old->pairs.end() && same_tip_kind(it->second->ka, basis.kind[a]) && same_tip_kind(it->second->kb, basis.kind[b]) &&
-                same_place(it->second->a_where, gc[a]) && same_place(it->second->b_where, gc[b]))
-                cache->pairs[{b, a}] = it->second;
-            else
-                fresh_pairs.push_back({b, a});
+            const std::pair<int, int> key(b, a);
+            std::shared_ptr<const TipCache::Pair> kept;
+            if (old) {
+                while (cursor < old->pairs.size() && old->pairs[cursor].first < key) ++cursor;
+                if (cursor < old->pairs.size() && old->pairs[cursor].first == key) {
+                    const TipCache::Pair& q = *old->pairs[cursor].second;
+                    if (same_tip_kind(q.ka, basis.kind[a]) && same_tip_kind(q.kb, basis.kind[b]) && same_place(q.a_where, gc[a]) &&
+                        same_place(q.b_where, gc[b]))
+                        kept = old->pairs[cursor].second;
+                }
+            }
+            if (!kept) fresh_pairs.push_back(cache->pairs.size());
+            cache->pairs.emplace_back(key, std::move(kept));
         }
     // The kept corrections: 9 columns of W and X per touched element, 81 numbers per crack pair.
     const double cache_bytes = 8.0 * (9.0 * double(touched.size()) * 3.0 * double(surface.geometry.size() + surface.mesh.num_vertices()) +
-                                      81.0 * double(cache->pairs.size() + fresh_pairs.size()));
+                                      81.0 * double(cache->pairs.size()));
     check_memory_budget(2 * crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), p1.cracks.num_vertices()) +
                             cache_bytes,
                         surface.options.memory_budget_bytes,
@@ -769,13 +779,13 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
                                   const int b = fresh_columns[i];
                                   new_columns[i] = surface_columns(surface, gc[b], basis.kind[b], rules, quad);
                               } else {
-                                  const auto& ba = fresh_pairs[i - fresh_columns.size()];
+                                  const auto& ba = cache->pairs[fresh_pairs[i - fresh_columns.size()]].first;
                                   new_pairs[i - fresh_columns.size()] = crack_pair(gc, basis, ba.second, ba.first, surface.elastic, rules, quad);
                               }
                           }
                       });
     for (std::size_t i = 0; i < fresh_columns.size(); ++i) cache->columns[fresh_columns[i]] = new_columns[i];
-    for (std::size_t i = 0; i < fresh_pairs.size(); ++i) cache->pairs[fresh_pairs[i]] = new_pairs[i];
+    for (std::size_t i = 0; i < fresh_pairs.size(); ++i) cache->pairs[fresh_pairs[i]].second = new_pairs[i];
     // Add every correction in a fixed order (element, then pair key), whatever was integrated now.
     for (const auto& kv : cache->columns) {
         const ElementGeometry& gb = gc[kv.first];
