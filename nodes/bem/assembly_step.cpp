@@ -42,7 +42,7 @@ void settle_method(const AssemblyRequest& rq, BemOperators& out) {
     } else {
         out.method = rq.method.value_or(CrackMethod::full);
         out.switch_elements = rq.switch_elements;
-        out.tip_elements = rq.tip_elements.value_or(false);
+        out.tip_elements = rq.tip_elements.value_or(true);  // square-root front elements (issue 13)
     }
     if (out.switch_elements < 0)
         throw std::invalid_argument("parameter 'switch_elements' is " + std::to_string(out.switch_elements) +

@@ -28,7 +28,7 @@ struct AssemblyRequest {
     int step = 0;                                  // BEM step, for the report of the switch
     bool opening_update = true;                    // false: estimated openings do not update the surface (fig. 22a)
     std::optional<bool> tip_elements;              // square-root crack-front elements (full BEM only); empty: the
-                                                   // previous operators' choice, or linear on a first assembly
+                                                   // previous operators' choice, or square_root on a first assembly
 };
 
 struct AssemblyReport {

@@ -40,11 +40,12 @@ void declare_assemble_params(graph::NodeType& t) {
                  "estimated growth: integrate the estimated openings into the surface's right-hand side (ch. 5.2); false "
                  "keeps the surface data of the switch, which underestimates K as the crack grows (thesis fig. 22a)");
     t.param_choice("front_elements", "inherit", {"inherit", "linear", "square_root"},
-                   "crack elements along every front: linear (P1, zero opening at the front; sif.fronts correlates "
-                   "displacements as the thesis does) or square_root (elements whose front unknowns are the coefficients "
+                   "crack elements along every front: square_root (elements whose front unknowns are the coefficients "
                    "of sqrt(distance); sif.fronts reads K from them: front-average K_I within 0.5 % on the penny crack; "
-                   "docs/architecture.md). Full BEM only (estimated growth uses the estimator). inherit = linear on a "
-                   "first assembly, the previous operators' choice with 'previous'; set it on the first assembly");
+                   "docs/architecture.md) or linear (P1, zero opening at the front; sif.fronts correlates displacements "
+                   "as the thesis does, K 15-18 % low at the thesis' crack resolution). Full BEM only (estimated growth "
+                   "uses the estimator). inherit = square_root on a first assembly, the previous operators' choice with "
+                   "'previous'; set it on the first assembly");
     t.param_string("boundary_regions", "",
                    "regions the boundary conditions of the solves using these operators name, as 'solve:region;...'; "
                    "filled in by the pipeline loader (leave it empty): a region the mesh lacks, or that has no "
