@@ -50,6 +50,19 @@ Material unit_material() {
     m.nu = 0.3;
     return m;
 }
+// The crack tests' body: a 10 m cube of unit material whose top and bottom are pulled apart.
+struct PulledCube {
+    std::shared_ptr<const SurfaceOperators> ops;
+    ResolvedConditions bc;
+};
+PulledCube pulled_cube() {
+    AssemblyOptions opt;
+    opt.single_layer = false;
+    PulledCube c;
+    c.ops = assemble_surface_operators(bem_cube_mesh(3, 10.0), unit_material(), opt);
+    c.bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), c.ops->mesh);
+    return c;
+}
 SurfaceMesh first_rings(const SurfaceMesh& disk, int rings) {
     // The disk builder numbers vertices ring by ring, so its first 6 r^2 triangles and
     // 1 + 3 r (r+1) vertices form the disk of r rings.
@@ -62,10 +75,7 @@ SurfaceMesh first_rings(const SurfaceMesh& disk, int rings) {
 }  // namespace
 
 TEST(BemCracks, AppendOnlyAssemblyAndSchurExtensionMatchFullSolve) {
-    AssemblyOptions opt;
-    opt.single_layer = false;
-    const auto o = assemble_surface_operators(bem_cube_mesh(3, 10.0), unit_material(), opt);
-    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), o->mesh);
+    const auto [o, bc] = pulled_cube();
     const SurfaceMesh disk = bem_disk_mesh(6, 1.0);
     const SurfaceMesh small = first_rings(disk, 4);
     const auto c1 = append_crack_elements(*o, nullptr, small);
@@ -127,10 +137,7 @@ SurfaceMesh two_sheets(const SurfaceMesh& a, int first_rings_a, int rings_a, con
 // change (here all of a sheet whose front stood still), not only on nodes whose elements are all plain,
 // and gives the fresh factorisation's answer.
 TEST(BemCracks, SquareRootSchurKeepsTheNodesOfASheetThatStoodStill) {
-    AssemblyOptions opt;
-    opt.single_layer = false;
-    const auto o = assemble_surface_operators(bem_cube_mesh(3, 10.0), unit_material(), opt);
-    const auto bc = resolve(parse_boundary_conditions("z_max: traction 0 0 1; z_min: traction 0 0 -1; *: traction 0 0 0"), o->mesh);
+    const auto [o, bc] = pulled_cube();
     const SurfaceMesh a = bem_disk_mesh(5, 1.5, Vec3(-2.2, 0, 0)), b = bem_disk_mesh(3, 1.0, Vec3(2.2, 0.3, 0));
     std::shared_ptr<const CrackOperators> p1, tip;
     std::shared_ptr<const BemSolution> sol;
