@@ -6,6 +6,7 @@
 #include <map>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -381,9 +382,8 @@ std::vector<char> unchanged_basis(const CrackOperators& cr, const TipBasis& basi
 // least likely to change next first: settled nodes (every element at them plain; their basis never
 // changes again), then by how many solves their basis has stood (a crack whose front stopped keeps its
 // nodes), then by index (deterministic). Returns the length of the kept prefix.
-std::size_t order_tip_unknowns(const CrackOperators& cr, const std::vector<int>& dof_nodes, const CrackSchur* old,
-                               const std::vector<char>* same, CrackSchur& schur) {
-    const TipBasis basis = tip_basis(cr.cracks);
+std::size_t order_tip_unknowns(const CrackOperators& cr, const TipBasis& basis, const std::vector<int>& dof_nodes,
+                               const CrackSchur* old, const std::vector<char>* same, CrackSchur& schur) {
     std::vector<char> settled(cr.cracks.num_vertices(), 1);
     for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
         if (basis.kind[e].type != TipElementKind::plain)
@@ -419,8 +419,9 @@ std::size_t order_tip_unknowns(const CrackOperators& cr, const std::vector<int>&
 // change, the other unknowns appended in the same block Cholesky update as extend_schur. Returns false
 // (nothing done) when nothing of the previous factor can be kept: another surface system, or its first
 // node changed.
-bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const BemSolution* previous, const std::vector<int>& dof_nodes,
-                      const SolveOptions& options, double budget, CrackSchur& schur, BemSolution& sol) {
+bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const TipBasis& basis, const BemSolution* previous,
+                      const std::vector<int>& dof_nodes, const SolveOptions& options, double budget, CrackSchur& schur,
+                      BemSolution& sol) {
     const CrackSchur* old = previous ? previous->schur.get() : nullptr;
     if (!(options.extend_schur && cr.tip_elements && old && previous->system == sol.system && previous->cracks &&
           previous->cracks->tip_elements && old->crack_triangles <= cr.cracks.num_triangles()))
@@ -434,9 +435,9 @@ bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const 
         sol.schur_rows_added = 0;
         return true;
     }
-    const std::vector<char> same = unchanged_basis(cr, tip_basis(cr.cracks), *previous->cracks);
+    const std::vector<char> same = unchanged_basis(cr, basis, *previous->cracks);
     CrackSchur ordered;
-    const std::size_t kept = order_tip_unknowns(cr, dof_nodes, old, &same, ordered);
+    const std::size_t kept = order_tip_unknowns(cr, basis, dof_nodes, old, &same, ordered);
     if (kept == 0) return false;  // nothing to keep: factor anew
     CrackSchur prefix;
     prefix.dof_nodes.assign(ordered.dof_nodes.begin(), ordered.dof_nodes.begin() + static_cast<std::ptrdiff_t>(kept));
@@ -449,17 +450,16 @@ bool extend_tip_schur(const SurfaceSystem& sys, const CrackOperators& cr, const 
     return true;
 }
 
-// The crack nodes that carry unknowns: the interior nodes, or with square-root front elements
-// every node of an element where rho is not identically 0.
-std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<char>& interior) {
+// The crack nodes that carry unknowns: the interior nodes, or with square-root front elements (`basis`
+// given) every node of an element where rho is not identically 0.
+std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<char>& interior, const TipBasis* basis) {
     std::vector<int> dof_nodes;
-    if (cr.tip_elements) {
+    if (basis) {
         // Every node of an element where rho is not identically 0 (tip_basis: only a triangle whose three
         // edges are all front edges has rho = 0; corner triangles with a chord keep their basis).
         std::vector<char> carries(interior.size(), 0);
-        const TipBasis basis = tip_basis(cr.cracks);
         for (std::size_t e = 0; e < cr.cracks.num_triangles(); ++e)
-            if (basis.kind[e].type != TipElementKind::zero)
+            if (basis->kind[e].type != TipElementKind::zero)
                 for (int v : cr.cracks.triangles[e]) carries[v] = 1;
         for (std::size_t v = 0; v < interior.size(); ++v)
             if (carries[v]) dof_nodes.push_back(static_cast<int>(v));
@@ -474,12 +474,12 @@ std::vector<int> crack_dof_nodes(const CrackOperators& cr, const std::vector<cha
 }
 
 // The Schur complement S = Y - C A^-1 B on the crack unknowns (eq. 4.3), factorised anew.
-void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const std::vector<char>& interior, double budget,
-                  CrackSchur& schur, BemSolution& sol) {
+void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const TipBasis* basis, const std::vector<int>& dof_nodes,
+                  double budget, CrackSchur& schur, BemSolution& sol) {
     // Square-root front elements: the nodes least likely to change first, so that the next step can keep
     // the factor on them (order_tip_unknowns).
-    if (cr.tip_elements) order_tip_unknowns(cr, crack_dof_nodes(cr, interior), nullptr, nullptr, schur);
-    else schur.dof_nodes = crack_dof_nodes(cr, interior);
+    if (basis) order_tip_unknowns(cr, *basis, dof_nodes, nullptr, nullptr, schur);
+    else schur.dof_nodes = dof_nodes;
     check_memory_budget(schur_bytes(double(sys.size()), 3.0 * double(schur.dof_nodes.size())), budget,
                         "the crack Schur complement (eq. 4.3) on " + std::to_string(3 * schur.dof_nodes.size()) +
                             " crack unknowns");
@@ -517,10 +517,16 @@ std::vector<Vec3> solve_cracks(const SurfaceSystem& sys, const CrackOperators& c
     auto schur = std::make_shared<CrackSchur>();
     schur->crack_triangles = cr.cracks.num_triangles();
     const double budget = solve_budget(*sys.ops, options);
-    if (can_extend_schur(cr, previous, sol, interior, options))
+    if (can_extend_schur(cr, previous, sol, interior, options)) {
         extend_schur(sys, cr, *previous->schur, interior, budget, *schur, sol);
-    else if (!(cr.tip_elements && extend_tip_schur(sys, cr, previous, crack_dof_nodes(cr, interior), options, budget, *schur, sol)))
-        factor_schur(sys, cr, interior, budget, *schur, sol);
+    } else {
+        // Square-root front elements: their basis once per solve, for the unknowns and their order.
+        const std::optional<TipBasis> basis = cr.tip_elements ? std::optional<TipBasis>(tip_basis(cr.cracks)) : std::nullopt;
+        const TipBasis* tb = basis ? &*basis : nullptr;
+        const std::vector<int> dof_nodes = crack_dof_nodes(cr, interior, tb);
+        if (!(tb && extend_tip_schur(sys, cr, *tb, previous, dof_nodes, options, budget, *schur, sol)))
+            factor_schur(sys, cr, tb, dof_nodes, budget, *schur, sol);
+    }
     // Right-hand side of the crack rows: face loads minus known surface data.
     const auto ic = dofs3(schur->dof_nodes);
     const Vector load = crack_face_loads(cr, loads);
