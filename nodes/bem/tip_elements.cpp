@@ -1,6 +1,7 @@
 #include "nodes/bem/tip_elements.hpp"
 
 #include "nodes/bem/solver.hpp"
+#include "nodes/domain/isa_clones.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -130,9 +131,9 @@ double general_rho(const TipElementKind& k, const std::array<double, 3>& l, std:
     return rho;
 }
 
-}  // namespace
-
-TipPoint tip_point(const ElementGeometry& g, const TipElementKind& k, double s, double t) {
+// tip_point's body, inlined into the quadrature loops below (a call per point, with its 128-byte
+// result, cost as much as the point's kernel on touching pairs).
+inline TipPoint tip_point_inline(const ElementGeometry& g, const TipElementKind& k, double s, double t) {
     TipPoint p;
     const std::array<double, 3> l = {1 - s - t, s, t};
     p.lambda = l;
@@ -161,6 +162,12 @@ TipPoint tip_point(const ElementGeometry& g, const TipElementKind& k, double s, 
         p.psi[i] = sr * l[i];
     }
     return p;
+}
+
+}  // namespace
+
+TipPoint tip_point(const ElementGeometry& g, const TipElementKind& k, double s, double t) {
+    return tip_point_inline(g, k, s, t);
 }
 
 Vec3 rho_curl(const ElementGeometry& g, const TipElementKind& k) {
@@ -287,6 +294,7 @@ void scale_sums(const ElementGeometry& a, const ElementGeometry& b, TipSums& out
 }
 
 // Touching pairs: a Sauter-Schwab rule in reordered local coordinates.
+CF_AVX2_CLONE
 void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa, const ElementGeometry& b,
                const TipElementKind& kb, const int* pb, const PairRule& r, bool want_k, TipSums& out) {
     double fa[max_weights], fb[max_weights];
@@ -300,8 +308,8 @@ void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa
         lb[pb[0]] = 1 - r.sy[q] - r.ty[q];
         lb[pb[1]] = r.sy[q];
         lb[pb[2]] = r.ty[q];
-        const TipPoint X = tip_point(a, ka, la[1], la[2]);
-        const TipPoint Y = tip_point(b, kb, lb[1], lb[2]);
+        const TipPoint X = tip_point_inline(a, ka, la[1], la[2]);
+        const TipPoint Y = tip_point_inline(b, kb, lb[1], lb[2]);
         weights_at(ka, X, fa);
         weights_at(kb, Y, fb);
         const Vec3 d = X.x - Y.x;
@@ -341,7 +349,7 @@ void side_points(const ElementGeometry& g, const TipElementKind& k, const Triang
     for (std::size_t q = 0; q < Qp; ++q) {
         // Padding: a copy of the last point (so r > 0) with weight 0.
         const std::size_t src = std::min(q, Q - 1);
-        const TipPoint P = tip_point(g, k, r.s[src], r.t[src]);
+        const TipPoint P = tip_point_inline(g, k, r.s[src], r.t[src]);
         out.x[q] = P.x.x();
         out.y[q] = P.x.y();
         out.z[q] = P.x.z();
@@ -361,6 +369,7 @@ void side_points(const ElementGeometry& g, const TipElementKind& k, const Triang
         v_;                                       \
     })
 inline double sum4(const Lanes4* v) { return ((*v)[0] + (*v)[1]) + ((*v)[2] + (*v)[3]); }
+CF_AVX2_CLONE
 void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, const TriangleRule& ra, const ElementGeometry& b,
                          const TipElementKind& kb, const TriangleRule& rb, bool want_k, TipSums& out) {
     // The last side evaluated is kept (a surface loop pairs one crack element with every surface element).
@@ -533,13 +542,18 @@ void blocks_from_sums(const ElementGeometry& a, const TipElementKind& ka, const 
     CurlTerms ta[3], tb[3];
     for (int al = 0; al < 3; ++al) ta[al] = curl_terms(a, ka, al);
     for (int be = 0; be < 3; ++be) tb[be] = curl_terms(b, kb, be);
+    // P depends only on the weight pair; a weight index occurs in up to three (al, be) blocks, so
+    // it is evaluated once per pair here (the same values as evaluating it in the loops below).
+    Mat3 P[max_weights][max_weights];
+    for (int i = 0; i < s.na; ++i)
+        for (int j = 0; j < s.nb; ++j) P[i][j] = kernel_p(s.S1[i][j], s.SR[i][j], c);
     for (int al = 0; al < 3; ++al)
         for (int be = 0; be < 3; ++be) {
             Mat3 B = Mat3::Zero();
             for (int i = 0; i < ta[al].n; ++i)
                 for (int j = 0; j < tb[be].n; ++j) {
                     const int wi = ta[al].weight[i], wj = tb[be].weight[j];
-                    B += hyper_block(ta[al].v[i], tb[be].v[j], s.S1[wi][wj], kernel_p(s.S1[wi][wj], s.SR[wi][wj], c), c);
+                    B += hyper_block(ta[al].v[i], tb[be].v[j], s.S1[wi][wj], P[wi][wj], c);
                 }
             out.H[al][be] = B;
         }
@@ -549,7 +563,7 @@ void blocks_from_sums(const ElementGeometry& a, const TipElementKind& ka, const 
             Mat3 K = Mat3::Zero();
             for (int j = 0; j < tb[be].n; ++j) {
                 const int wj = tb[be].weight[j];
-                K += kernel_p(s.S1[0][wj], s.SR[0][wj], c) * cross_matrix(tb[be].v[j]);
+                K += P[0][wj] * cross_matrix(tb[be].v[j]);
             }
             K.diagonal().array() += s.SK[be] / (4 * M_PI);
             out.Kb[be] = K;
