@@ -8,6 +8,8 @@
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -264,9 +266,7 @@ struct BlockEntry {
     std::uint32_t tri;
 };
 
-// The blocks a prepared triangle's band reaches, handed to `emit` in a fixed order. Run once per
-// triangle to count its blocks and once to write them to their place (so the pairs of all
-// triangles are generated in parallel into one array).
+// The blocks a prepared triangle's band reaches, handed to `emit` in a fixed order.
 class BlocksOfTriangle {
 public:
     BlocksOfTriangle(const std::vector<RasterTriangle>& prepared, double r_f, double reach)
@@ -351,23 +351,22 @@ private:
     const double r_f_, reach2_slack_, block_reach2_;
 };
 
-// Every (block, triangle) pair, generated per triangle in parallel (counted first, then written
-// to its place) and sorted by block, nearest triangle first. A total order, so the parallel
-// sort's result does not depend on the thread count.
+// Every (block, triangle) pair, generated per triangle in parallel (each thread into a list of its
+// own, joined after) and sorted by block, nearest triangle first. A triangle reaches a block at
+// most once, so (block, near2, tri) is a total order: the sorted result does not depend on the
+// thread count or on the order in which the lists were joined.
 std::vector<BlockEntry> block_entries(const std::vector<RasterTriangle>& prepared, double r_f, double reach) {
     const BlocksOfTriangle blocks_of(prepared, r_f, reach);
-    std::vector<std::size_t> first_entry(prepared.size() + 1, 0);
-    tbb::parallel_for(std::size_t(0), prepared.size(), [&](std::size_t t) {
-        std::size_t n = 0;
-        blocks_of(t, [&](const BlockEntry&) { ++n; });
-        first_entry[t + 1] = n;
+    tbb::enumerable_thread_specific<std::vector<BlockEntry>> lists;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prepared.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<BlockEntry>& list = lists.local();
+        for (std::size_t t = r.begin(); t != r.end(); ++t) blocks_of(t, [&](const BlockEntry& x) { list.push_back(x); });
     });
-    for (std::size_t t = 0; t < prepared.size(); ++t) first_entry[t + 1] += first_entry[t];
-    std::vector<BlockEntry> entries(first_entry.back());
-    tbb::parallel_for(std::size_t(0), prepared.size(), [&](std::size_t t) {
-        std::size_t e = first_entry[t];
-        blocks_of(t, [&](const BlockEntry& x) { entries[e++] = x; });
-    });
+    std::size_t total = 0;
+    for (const auto& l : lists) total += l.size();
+    std::vector<BlockEntry> entries;
+    entries.reserve(total);
+    for (const auto& l : lists) entries.insert(entries.end(), l.begin(), l.end());
     tbb::parallel_sort(entries.begin(), entries.end(), [](const BlockEntry& a, const BlockEntry& b) {
         if (a.block != b.block) return a.block < b.block;
         return a.near2 < b.near2 || (a.near2 == b.near2 && a.tri < b.tri);
