@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace cf {
 namespace {
@@ -74,6 +75,80 @@ TEST(CrackGrid, RasteriserAgreesWithOpenVdbMeshToUnsignedDistance) {
 // many blocks the triangle's band never reaches, which the recorder skips by the distance from
 // each block's centre to the triangle. Every voxel of the band must still match the exact
 // thickened distance, and none beyond it may be set.
+// Exact distance from p to triangle (a, b, c) [m], independent of the recorder's closest-point
+// routine: the foot on the plane if it lies inside, else the nearest edge.
+double exact_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    auto seg = [](const Vec3& x, const Vec3& u, const Vec3& v) {
+        const double t = std::clamp((x - u).dot(v - u) / (v - u).squaredNorm(), 0.0, 1.0);
+        return (x - (u + t * (v - u))).norm();
+    };
+    const double edges = std::min({seg(p, a, b), seg(p, b, c), seg(p, c, a)});
+    const Vec3 nn = (b - a).cross(c - a);
+    if (nn.norm() < 1e-14) return edges;
+    const Vec3 n = nn.normalized();
+    const Vec3 q = p - n.dot(p - a) * n;
+    const bool inside = (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
+                        (a - c).cross(q - c).dot(n) >= 0;
+    return inside ? (p - q).norm() : edges;
+}
+
+// Strips recorded sub-step by sub-step whose quads are twisted (their two triangles not coplanar)
+// and tilted towards each axis in turn: the recorder walks a quad's two halves together, and a
+// voxel must still hold the thickened distance to the nearest triangle of every strip so far,
+// whatever the order and grouping; voxels beyond the reach stay at the background.
+TEST(CrackGrid, TwistedStripsRecordedInSubStepsGiveTheExactDistance) {
+    for (int axis = 0; axis < 3; ++axis) {
+        // A front of 6 markers along the first in-plane direction; each sub-step moves every
+        // marker along the second one by 0.6-1.1 r_f, and along the normal by a marker-dependent
+        // amount (the twist).
+        const int a0 = (axis + 1) % 3, a1 = (axis + 2) % 3;
+        auto marker = [&](int i, int step) {
+            Vec3 x = Vec3::Zero();
+            x[a0] = (i - 2.5) * 1.7 * kRf;
+            x[a1] = step * (0.6 + 0.1 * i) * kRf;
+            x[axis] = 0.25 * kRf * std::sin(0.9 * i + 0.7 * step) + 0.05 * step * kRf * i;
+            return x;
+        };
+        CrackRecorder rec(kRf);
+        rec.add_crack();
+        std::vector<Triangle3> all;
+        for (int step = 0; step < 5; ++step) {
+            FrontMotion m{{}, {}, false};
+            for (int i = 0; i < 6; ++i) {
+                m.p0.push_back(marker(i, step));
+                m.p1.push_back(marker(i, step + 1));
+            }
+            const std::vector<Triangle3> tris = strip_triangles(m);
+            ASSERT_EQ(tris.size(), 10u);
+            rec.add_triangles(0, tris);
+            all.insert(all.end(), tris.begin(), tris.end());
+        }
+        const LevelSet g = rec.snapshot().cracks[0];
+        const double band = 3 * kRf, reach = band + kThick;
+        std::size_t in_band = 0;
+        double worst = 0;
+        for (int i = -12; i <= 12; ++i)
+            for (int j = -12; j <= 12; ++j)
+                for (int k = -8; k <= 16; ++k) {
+                    Vec3 p;
+                    p[a0] = i * kRf;
+                    p[axis] = j * kRf;
+                    p[a1] = k * kRf;
+                    double d = std::numeric_limits<double>::infinity();
+                    for (const Triangle3& t : all) d = std::min(d, exact_triangle_distance(p, t[0], t[1], t[2]));
+                    const double v = sample(g, p);  // a voxel centre: the voxel's own value
+                    if (d < reach - 1e-6 * kRf) {
+                        ++in_band;
+                        worst = std::max(worst, std::abs(v - (d - kThick)));
+                    } else if (d > reach + 1e-6 * kRf) {
+                        EXPECT_EQ(v, float(band)) << "axis " << axis << " voxel " << i << " " << j << " " << k;
+                    }
+                }
+        EXPECT_GT(in_band, 1000u) << "axis " << axis;
+        EXPECT_LT(worst, 1e-5 * kRf) << "axis " << axis << ": worst deviation from the exact thickened distance [m]";
+    }
+}
+
 TEST(CrackGrid, LongObliqueFanTriangleMatchesTheExactDistance) {
     const Triangle3 fan = {Vec3(0, 0, 0), Vec3(0.61, 0.43, 0.29), Vec3(0.63, 0.41, 0.31)};
     CrackRecorder rec(kRf);
@@ -88,20 +163,7 @@ TEST(CrackGrid, LongObliqueFanTriangleMatchesTheExactDistance) {
         for (int j = -6; j <= 28; ++j)
             for (int k = -6; k <= 22; ++k) {
                 const Vec3 p(i * kRf, j * kRf, k * kRf);
-                const Vec3 a = fan[0], b = fan[1], c = fan[2];
-                // Exact point-triangle distance by dense sampling is too slow; use the
-                // closest point of the triangle's plane region or its edges.
-                const Vec3 n = (b - a).cross(c - a).normalized();
-                const Vec3 q = p - n.dot(p - a) * n;
-                auto inside = [&](const Vec3& x) {
-                    return (b - a).cross(x - a).dot(n) >= 0 && (c - b).cross(x - b).dot(n) >= 0 &&
-                           (a - c).cross(x - c).dot(n) >= 0;
-                };
-                auto seg = [](const Vec3& x, const Vec3& u, const Vec3& v) {
-                    const double t = std::clamp((x - u).dot(v - u) / (v - u).squaredNorm(), 0.0, 1.0);
-                    return (x - (u + t * (v - u))).norm();
-                };
-                const double d = inside(q) ? (p - q).norm() : std::min({seg(p, a, b), seg(p, b, c), seg(p, c, a)});
+                const double d = exact_triangle_distance(p, fan[0], fan[1], fan[2]);
                 // At a voxel centre trilinear sampling returns the voxel's own value; voxels
                 // never set hold the background, the band width.
                 const double v = sample(g, p);
