@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 namespace cf {
 
@@ -241,10 +242,11 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
     struct ColumnOfTriangle {
         double duv, h0, e0, m0;
     };
-    for (const std::uint32_t* it = first; it != last; ++it) {
-        const RasterPrimitive& pr = prims[*it];
+    // The walk of one primitive, compiled for one and for two triangles (the loops over a pair's
+    // triangles unrolled).
+    auto walk = [&](auto count, const RasterPrimitive& pr) {
+        constexpr int n_tri = decltype(count)::value;
         const RasterTriangle* const rts = &tris[pr.first];
-        const int n_tri = int(pr.count);
         const int u = pr.u, v = pr.v, axis = pr.axis;
         const int i0 = std::max(pr.lo_i[u], o[u]), i1 = std::min(pr.hi_i[u], o[u] + kLeafDim - 1);
         const int j0 = std::max(pr.lo_i[v], o[v]), j1 = std::min(pr.hi_i[v], o[v] + kLeafDim - 1);
@@ -291,7 +293,7 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
                 for (int t = 0; t < n_tri; ++t) {
                     const RasterTriangle& rt = rts[t];
                     ColumnOfTriangle& c = col[t];
-                    if (n_tri > 1) {
+                    if constexpr (n_tri > 1) {
                         const double tu = max3(rt.box_lo[u] - xu, xu - rt.box_hi[u], 0.0);
                         const double tv = max3(rt.box_lo[v] - xv, xv - rt.box_hi[v], 0.0);
                         c.duv = tu * tu + tv * tv;
@@ -317,7 +319,7 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
                     for (int t = 0; t < n_tri; ++t) {
                         const RasterTriangle& rt = rts[t];
                         const ColumnOfTriangle& c = col[t];
-                        if (n_tri > 1) {
+                        if constexpr (n_tri > 1) {
                             const double ta = max3(rt.box_lo[axis] - xa, xa - rt.box_hi[axis], 0.0);
                             if (c.duv + ta * ta > b + margin) continue;  // its own box
                         }
@@ -344,6 +346,13 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
                 }
             }
         }
+    };
+    for (const std::uint32_t* it = first; it != last; ++it) {
+        const RasterPrimitive& pr = prims[*it];
+        if (pr.count == 2)
+            walk(std::integral_constant<int, 2>{}, pr);
+        else
+            walk(std::integral_constant<int, 1>{}, pr);
     }
     for (std::size_t q = 0; q < out.count; ++q) {
         const int off = out.list[q];
