@@ -70,6 +70,41 @@ void BM_RecordGrowingCrack(benchmark::State& state) {
 BENCHMARK(BM_RecordGrowingCrack)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The same strips voxelised one by one by OpenVDB (no union): the reference cost per strip.
+// What deferring the recording could save (issue 17's lead): 48 sub-steps of a front advancing
+// half a voxel each (a BEM step's worth at r_c = 24 r_f), recorded into one crack grid in
+// batches of m sub-steps (one add_triangles call per batch; m = 1 is today's recorder). The
+// grids are the same for every m (CrackGrid.IncrementalRecordingEqualsRecordingEverythingAtOnce);
+// what differs is how often a voxel ahead of the front is re-lowered and the per-call set-up.
+void BM_RecordHalfVoxelSubstepsInBatches(benchmark::State& state) {
+    const int m = int(state.range(0));
+    std::vector<FrontMotion> steps;
+    auto ring = [](double r) {
+        std::vector<Vec3> p;
+        for (int i = 0; i < 256; ++i) {
+            const double a = 2 * M_PI * i / 256;
+            p.emplace_back(r * std::cos(a), r * std::sin(a), 0.1 * r * std::sin(3 * a));
+        }
+        return p;
+    };
+    for (int s = 0; s < 48; ++s) steps.push_back(FrontMotion{ring(0.05 + 0.5 * kRf * s), ring(0.05 + 0.5 * kRf * (s + 1)), true});
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
+    for (auto _ : state) {
+        CrackRecorder rec(kRf);
+        rec.add_crack();
+        for (std::size_t s = 0; s < steps.size(); s += std::size_t(m)) {
+            std::vector<Triangle3> tris;
+            for (std::size_t k = s; k < std::min(steps.size(), s + std::size_t(m)); ++k) {
+                const std::vector<Triangle3> t = strip_triangles(steps[k]);
+                tris.insert(tris.end(), t.begin(), t.end());
+            }
+            rec.add_triangles(0, tris);
+        }
+        benchmark::DoNotOptimize(rec.num_cracks());
+    }
+    state.counters["substeps_per_s"] = benchmark::Counter(double(steps.size() * state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_RecordHalfVoxelSubstepsInBatches)->Arg(1)->Arg(4)->Arg(16)->Arg(48)->ArgName("m")->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_MeshToVolumeSameStrips(benchmark::State& state) {
     const auto steps = growing_front(20);
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
