@@ -89,7 +89,7 @@ void BM_RecordHalfVoxelSubstepsInBatches(benchmark::State& state) {
     for (int s = 0; s < 48; ++s) steps.push_back(FrontMotion{ring(0.05 + 0.5 * kRf * s), ring(0.05 + 0.5 * kRf * (s + 1)), true});
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
     for (auto _ : state) {
-        CrackRecorder rec(kRf);
+        CrackRecorder rec(kRf, 2);  // fracture.start's default crack_band
         rec.add_crack();
         for (std::size_t s = 0; s < steps.size(); s += std::size_t(m)) {
             std::vector<Triangle3> tris;
