@@ -21,19 +21,22 @@ using namespace cf;
 
 constexpr double kRf = 0.005;
 
-// A circular front of 256 markers growing from radius 0.05 m by 0.01 m per sub-step (2 r_f),
-// slightly out of plane so the strips are not axis-aligned.
-std::vector<FrontMotion> growing_front(int substeps) {
+// A closed front of 256 markers on a circle of radius r, slightly out of plane so the strips are
+// not axis-aligned.
+std::vector<Vec3> ring(double r) {
+    std::vector<Vec3> p;
+    for (int i = 0; i < 256; ++i) {
+        const double a = 2 * M_PI * i / 256;
+        p.emplace_back(r * std::cos(a), r * std::sin(a), 0.1 * r * std::sin(3 * a));
+    }
+    return p;
+}
+
+// The ring front growing from radius 0.05 m by `advance` per sub-step.
+std::vector<FrontMotion> growing_front(int substeps, double advance = 2 * kRf) {
     std::vector<FrontMotion> steps;
-    auto ring = [](double r) {
-        std::vector<Vec3> p;
-        for (int i = 0; i < 256; ++i) {
-            const double a = 2 * M_PI * i / 256;
-            p.emplace_back(r * std::cos(a), r * std::sin(a), 0.1 * r * std::sin(3 * a));
-        }
-        return p;
-    };
-    for (int s = 0; s < substeps; ++s) steps.push_back(FrontMotion{ring(0.05 + 0.01 * s), ring(0.06 + 0.01 * s), true});
+    for (int s = 0; s < substeps; ++s)
+        steps.push_back(FrontMotion{ring(0.05 + advance * s), ring(0.05 + advance * (s + 1)), true});
     return steps;
 }
 
@@ -77,16 +80,7 @@ BENCHMARK(BM_RecordGrowingCrack)->Arg(1)->Arg(2)->ArgName("threads")->Unit(bench
 // what differs is how often a voxel ahead of the front is re-lowered and the per-call set-up.
 void BM_RecordHalfVoxelSubstepsInBatches(benchmark::State& state) {
     const int m = int(state.range(0));
-    std::vector<FrontMotion> steps;
-    auto ring = [](double r) {
-        std::vector<Vec3> p;
-        for (int i = 0; i < 256; ++i) {
-            const double a = 2 * M_PI * i / 256;
-            p.emplace_back(r * std::cos(a), r * std::sin(a), 0.1 * r * std::sin(3 * a));
-        }
-        return p;
-    };
-    for (int s = 0; s < 48; ++s) steps.push_back(FrontMotion{ring(0.05 + 0.5 * kRf * s), ring(0.05 + 0.5 * kRf * (s + 1)), true});
+    const std::vector<FrontMotion> steps = growing_front(48, 0.5 * kRf);
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
     for (auto _ : state) {
         CrackRecorder rec(kRf, 2);  // fracture.start's default crack_band
