@@ -1,5 +1,7 @@
 #include "nodes/bem/pair_integrals.hpp"
 
+#include "nodes/domain/isa_clones.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -63,11 +65,7 @@ namespace {
 typedef double Lanes __attribute__((vector_size(8 * sizeof(double))));
 static_assert(pair_rule_padding == 8, "pair_rule_padding must equal the kernel's lane count");
 
-// Not under ThreadSanitizer: the clone's resolver runs while the program is being relocated,
-// before TSan's runtime is set up, and its instrumentation crashes the process at start.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(__SANITIZE_THREAD__)
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#endif
+CF_ISA_LEVEL_CLONES  // nodes/domain/isa_clones.hpp
 void pair_kernel(const double* sx, const double* tx, const double* sy, const double* ty, const double* w, std::size_t n,
                  const double* g, double* out) {
     Lanes i1 = {}, rxx = {}, ryy = {}, rzz = {}, rxy = {}, rxz = {}, ryz = {};

@@ -134,6 +134,20 @@ struct RasterPrimitive {
     Vec3 box_lo, box_hi;                 // the joint bounding box [m]
     openvdb::Coord lo_i, hi_i;           // the joint reach box [voxels]
     int axis = 2, u = 0, v = 1;
+
+    // Prepared triangle `index` alone.
+    RasterPrimitive(const RasterTriangle& t, std::uint32_t index)
+        : first(index), box_lo(t.box_lo), box_hi(t.box_hi), lo_i(t.lo_i), hi_i(t.hi_i), axis(t.axis), u(t.u), v(t.v) {}
+    // With the next prepared triangle (same axis) added.
+    void join(const RasterTriangle& t) {
+        ++count;
+        box_lo = box_lo.cwiseMin(t.box_lo);
+        box_hi = box_hi.cwiseMax(t.box_hi);
+        for (int c = 0; c < 3; ++c) {
+            lo_i[c] = std::min(lo_i[c], t.lo_i[c]);
+            hi_i[c] = std::max(hi_i[c], t.hi_i[c]);
+        }
+    }
 };
 
 constexpr int kMaxGroup = 2;
@@ -158,26 +172,10 @@ std::vector<RasterPrimitive> raster_primitives(const std::vector<RasterTriangle>
     out.reserve(prepared.size());
     for (std::size_t k = 0; k < prepared.size();) {
         const RasterTriangle& a = prepared[k];
-        RasterPrimitive p;
-        p.first = std::uint32_t(k);
-        p.box_lo = a.box_lo;
-        p.box_hi = a.box_hi;
-        p.lo_i = a.lo_i;
-        p.hi_i = a.hi_i;
-        p.axis = a.axis;
-        p.u = a.u;
-        p.v = a.v;
+        RasterPrimitive p(a, std::uint32_t(k));
         if (k + 1 < prepared.size()) {
             const RasterTriangle& b = prepared[k + 1];
-            if (a.slab && b.slab && a.axis == b.axis && share_edge(a.t, b.t)) {
-                p.count = 2;
-                p.box_lo = a.box_lo.cwiseMin(b.box_lo);
-                p.box_hi = a.box_hi.cwiseMax(b.box_hi);
-                for (int c = 0; c < 3; ++c) {
-                    p.lo_i[c] = std::min(a.lo_i[c], b.lo_i[c]);
-                    p.hi_i[c] = std::max(a.hi_i[c], b.hi_i[c]);
-                }
-            }
+            if (a.slab && b.slab && a.axis == b.axis && share_edge(a.t, b.t)) p.join(b);
         }
         k += p.count;
         out.push_back(p);
@@ -375,7 +373,7 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
 struct BlockEntry {
     openvdb::Coord block;
     float near2;  // squared distance from the block centre to the primitive's box [m^2]
-    std::uint32_t tri;  // the primitive's index
+    std::uint32_t prim;  // the primitive's index
 };
 
 // The blocks a primitive's band reaches, handed to `emit` in a fixed order.
@@ -495,7 +493,7 @@ std::vector<BlockEntry> block_entries(const std::vector<RasterTriangle>& prepare
     for (const auto& l : lists) entries.insert(entries.end(), l.begin(), l.end());
     tbb::parallel_sort(entries.begin(), entries.end(), [](const BlockEntry& a, const BlockEntry& b) {
         if (a.block != b.block) return a.block < b.block;
-        return a.near2 < b.near2 || (a.near2 == b.near2 && a.tri < b.tri);
+        return a.near2 < b.near2 || (a.near2 == b.near2 && a.prim < b.prim);
     });
     return entries;
 }
@@ -546,13 +544,13 @@ std::size_t rasterise_triangle_band(openvdb::FloatGrid& grid, const std::vector<
     for (const Triangle3& t : tris) prepared.emplace_back(t, r_f, reach);
     const std::vector<RasterPrimitive> prims = raster_primitives(prepared);
     const std::vector<BlockEntry> entries = block_entries(prepared, prims, r_f, reach);
-    // The blocks in order, each with its triangles nearest first.
+    // The blocks in order, each with its primitives nearest first.
     std::vector<std::size_t> starts;
     for (std::size_t e = 0; e < entries.size(); ++e)
         if (e == 0 || entries[e].block != entries[e - 1].block) starts.push_back(e);
     starts.push_back(entries.size());
     std::vector<std::uint32_t> order(entries.size());
-    for (std::size_t e = 0; e < entries.size(); ++e) order[e] = entries[e].tri;
+    for (std::size_t e = 0; e < entries.size(); ++e) order[e] = entries[e].prim;
     const std::size_t num_blocks = starts.size() - 1;
     // In batches, so a huge sheet does not hold every block's distances at once.
     constexpr std::size_t kBatch = 4096;
