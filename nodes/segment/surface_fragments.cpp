@@ -10,6 +10,8 @@
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 
 #include <algorithm>
@@ -34,6 +36,7 @@ Vec2 InsideUvProjection::operator()(const Vec3& p, const Vec3& n) const {
 namespace {
 
 constexpr const char* kOrigin = "f:cf_origin";
+constexpr int kMendRounds = 3;  // rounds of mending folded fracture faces, as the cell repair's
 
 // Carries the origin of every face through the corefinement: a split face's pieces keep its
 // origin, a face copied into the output brings it along. Copies share the maps and the current value.
@@ -65,6 +68,89 @@ std::string corefinement_problem(const Mesh& m) {
     if (!CGAL::is_triangle_mesh(m)) return "is not a triangle mesh";
     if (PMP::does_self_intersect(m)) return "intersects itself";
     return "";
+}
+
+// Dual contouring at an adaptivity > 0 occasionally folds a few triangles of a cell where cells of
+// different sizes are merged on the bisector of a crack gap, deep inside the object: a few
+// fracture faces of the result then cross each other. They are cut out with every fracture face
+// around their vertices and each hole is triangulated (new fracture faces; a hole may end on the
+// input's faces, which stay); what still crosses, and any hole that could not be filled, is cut out
+// again with one more vertex ring, at most `rounds` times. Returns false, leaving `out` half
+// mended, when the rounds run out or only an input face could unpinch a hole: the caller then
+// repairs the cell and clips again. Linear in the result's size per round; no search of the
+// whole cell.
+bool mend_folded_fracture_faces(Mesh& out, OriginMap origin, int rounds) {
+    using Vertex = Mesh::Vertex_index;
+    using Halfedge = Mesh::Halfedge_index;
+    for (int round = 0; round <= rounds; ++round) {
+        std::vector<Face> fracture;
+        for (Face f : out.faces())
+            if (origin[f] < 0) fracture.push_back(f);
+        std::vector<std::pair<Face, Face>> pairs;
+        PMP::self_intersections(fracture, out, std::back_inserter(pairs));
+        std::vector<char> marked(out.number_of_vertices() + out.number_of_removed_vertices(), 0);
+        bool any = !pairs.empty();
+        for (const auto& [a, b] : pairs)
+            for (Face f : {a, b})
+                for (Vertex v : CGAL::vertices_around_face(out.halfedge(f), out)) marked[v.idx()] = 1;
+        for (Halfedge h : out.halfedges())
+            if (out.is_border(h)) any = marked[out.target(h).idx()] = 1;  // a hole left open
+        if (!any) return true;
+        if (round == rounds) return false;
+        for (int r = 0; r < round; ++r) {
+            std::vector<char> next = marked;
+            for (Vertex v : out.vertices())
+                if (marked[v.idx()])
+                    for (Vertex w : CGAL::vertices_around_target(out.halfedge(v), out)) next[w.idx()] = 1;
+            marked.swap(next);
+        }
+        std::vector<char> cut(out.number_of_faces() + out.number_of_removed_faces(), 0);
+        std::vector<Vertex> rim;  // vertices of cut faces
+        auto cut_face = [&](Face f) {
+            if (cut[f.idx()]) return true;
+            if (origin[f] >= 0) return false;  // the fold reaches the input's faces
+            cut[f.idx()] = 1;
+            for (Vertex v : CGAL::vertices_around_face(out.halfedge(f), out)) rim.push_back(v);
+            return true;
+        };
+        for (Face f : out.faces()) {
+            if (origin[f] >= 0) continue;  // the input's faces stay: a hole may end on them
+            for (Vertex v : CGAL::vertices_around_face(out.halfedge(f), out))
+                if (marked[v.idx()]) {
+                    cut_face(f);
+                    break;
+                }
+        }
+        // A vertex whose remaining faces would form two fans or more pinches the hole into loops
+        // that share it, which cannot be triangulated: its faces go too.
+        for (std::size_t k = 0; k < rim.size(); ++k) {
+            const Vertex v = rim[k];
+            int runs = 0;
+            bool previous = false, first = false, begun = false;
+            for (Halfedge h : CGAL::halfedges_around_target(out.halfedge(v), out)) {
+                const Face f = out.face(h);
+                const bool kept = f != Mesh::null_face() && !cut[f.idx()];
+                if (!begun) first = kept, begun = true;
+                else if (kept && !previous) ++runs;
+                previous = kept;
+            }
+            if (first && !previous) ++runs;  // the cyclic sequence's wrap-around
+            if (runs < 2) continue;
+            for (Halfedge h : CGAL::halfedges_around_target(out.halfedge(v), out))
+                if (out.face(h) != Mesh::null_face() && !cut_face(out.face(h))) return false;
+        }
+        for (Face f : out.faces())
+            if (cut[f.idx()]) CGAL::Euler::remove_face(out.halfedge(f), out);
+        std::vector<char> done(out.number_of_halfedges() + out.number_of_removed_halfedges(), 0);
+        for (Halfedge h : out.halfedges()) {
+            if (!out.is_border(h) || done[h.idx()]) continue;
+            for (Halfedge g : CGAL::halfedges_around_face(h, out)) done[g.idx()] = 1;
+            std::vector<Face> patch;
+            PMP::triangulate_hole(out, h, std::back_inserter(patch));
+            for (Face f : patch) origin[f] = -1;  // a recycled face slot keeps its old value
+        }
+    }
+    return false;
 }
 
 }  // namespace
@@ -214,7 +300,9 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
         std::vector<Face> fracture;
         for (Face f : out.faces())
             if (origin[f] < 0) fracture.push_back(f);
-        if (PMP::does_self_intersect(fracture, out)) return fail("its fracture faces intersect each other");
+        if (PMP::does_self_intersect(fracture, out) && !mend_folded_fracture_faces(out, origin, kMendRounds))
+            return fail("its fracture faces intersect each other");
+        if (out.has_garbage()) out.collect_garbage();
     }
     SurfaceMesh m = impl_->convert(out, out.property_map<Face, int>(kOrigin).first);
     const MeshTopologyReport topo = check_topology(m, 0.0);

@@ -54,6 +54,11 @@ TEST_P(ShippedPipeline, ValidatesAndRunsInFastModeFromAnotherDirectory) {
     auto result = cf::graph::execute(plan, run);
     EXPECT_TRUE(result.ok) << result.error;
     for (const auto& s : result.stats) EXPECT_GE(s.runs, 1) << s.name << " never ran";
+    // Where a pipeline gives export.fragments the input surface, every fragment keeps it: none
+    // falls back to its level-set mesh (the count exists only with the surface mesher).
+    for (const auto& s : result.stats)
+        if (s.type == "export.fragments" && s.counts.count("fallback_fragments"))
+            EXPECT_EQ(s.counts.at("fallback_fragments"), 0) << s.name << " wrote level-set meshes";
 }
 
 INSTANTIATE_TEST_SUITE_P(All, ShippedPipeline, ::testing::ValuesIn(shipped_pipelines()),
@@ -76,6 +81,30 @@ TEST(ShippedPipelines, ThesisCasesUseTheFractureLibrary) {
         EXPECT_LE(std::count(text.begin(), text.end(), '\n'), 45) << p << " is longer than a case file should be";
     }
     EXPECT_GE(cases, 23);
+}
+
+// The pipelines an artist starts from (the default, the cut box, the dataset's mesh, torus and
+// cylinder runs) keep the input surface: their export.fragments gets the object's input mesh.
+// The thesis cases write the thesis' level-set meshes (docs/pipelines.md says why and how to
+// switch); their surface-mesher runs are tested by tests/segment.
+TEST(ShippedPipelines, ArtistPipelinesKeepTheInputSurface) {
+    for (const std::string file : {"default.yaml", "cut_box.yaml", "batch/fracture_mesh.yaml", "batch/fracture_torus.yaml",
+                                   "batch/fracture_cylinder.yaml"}) {
+        std::vector<cf::graph::Diagnostic> diags;
+        cf::graph::LoadOptions options;
+        options.fast = true;
+        const auto plan = cf::graph::load_pipeline_file(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/" + file,
+                                                        cf::node_registry(), options, diags);
+        ASSERT_TRUE(diags.empty()) << file;
+        int exports = 0, with_surface = 0;
+        for (const auto& n : plan.nodes) {
+            if (n.is_loop() || n.type->name() != "export.fragments") continue;
+            ++exports;
+            with_surface += std::any_of(n.inputs.begin(), n.inputs.end(), [](const auto& in) { return in.port == "surface"; });
+        }
+        EXPECT_GE(exports, 1) << file;
+        EXPECT_EQ(with_surface, exports) << file << ": export.fragments without the input surface";
+    }
 }
 
 TEST(ShippedPipelines, ThereIsADefaultPipeline) {
