@@ -3,7 +3,9 @@
 #include "nodes/export/mesh_writers.hpp"
 #include "nodes/export/number_text.hpp"
 
-#include <map>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
 #include <vector>
 
 namespace cf {
@@ -18,15 +20,34 @@ void write_point(std::ostream& os, const Vec3& p) {
     write_real(os, p.z());
 }
 
-// One OBJ index per distinct value (exact), in order of first use.
+// One OBJ index per distinct value (exact; -0 and +0 are one value), in order of first use. A hash
+// of the bit patterns: a sorted map of vectors allocated per corner took 0.5 s for a 180 k-triangle
+// fragment with UVs and normals.
 template <class V>
 std::vector<std::array<int, 3>> indexed_corners(const std::vector<std::array<V, 3>>& corner, std::vector<V>& values) {
-    std::map<std::vector<double>, int> index;
+    constexpr int N = int(V::RowsAtCompileTime);
+    using Key = std::array<double, N>;
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const {
+            std::uint64_t h = 0x9E3779B97F4A7C15ull;
+            for (double x : k) {
+                std::uint64_t b;
+                std::memcpy(&b, &x, sizeof b);
+                h = (h ^ b) * 0x100000001B3ull;
+                h ^= h >> 29;
+            }
+            return std::size_t(h);
+        }
+    };
+    std::unordered_map<Key, int, KeyHash> index;
+    index.reserve(corner.size());
     std::vector<std::array<int, 3>> out(corner.size());
     for (std::size_t t = 0; t < corner.size(); ++t)
         for (int k = 0; k < 3; ++k) {
             const V& v = corner[t][k];
-            auto [it, added] = index.try_emplace(std::vector<double>(v.data(), v.data() + v.size()), int(values.size()));
+            Key key;
+            for (int c = 0; c < N; ++c) key[std::size_t(c)] = v[c] + 0.0;  // -0 -> +0
+            auto [it, added] = index.try_emplace(key, int(values.size()));
             if (added) values.push_back(v);
             out[t][k] = it->second + 1;
         }

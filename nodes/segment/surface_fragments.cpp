@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 namespace cf {
 
@@ -68,6 +69,49 @@ std::string corefinement_problem(const Mesh& m) {
     if (!CGAL::is_triangle_mesh(m)) return "is not a triangle mesh";
     if (PMP::does_self_intersect(m)) return "intersects itself";
     return "";
+}
+
+// CGAL's corefinement lists its output in an order that changes from run to run (ties between the
+// two meshes' boxes are broken by heap addresses), although the mesh is the same. Rebuilt with its
+// vertices sorted by position and its faces by their vertices (each face from its smallest vertex,
+// orientation kept), the result, its mending and the files written are the same in every run.
+// Returns false when a face cannot be added (the result was not a manifold triangle mesh).
+bool canonical_order(const Mesh& m, const OriginMap& origin, Mesh& out) {
+    using Vertex = Mesh::Vertex_index;
+    std::vector<Vertex> vs(m.vertices().begin(), m.vertices().end());
+    std::stable_sort(vs.begin(), vs.end(), [&](Vertex a, Vertex b) {
+        const auto &p = m.point(a), &q = m.point(b);
+        return std::make_tuple(p.x(), p.y(), p.z()) < std::make_tuple(q.x(), q.y(), q.z());
+    });
+    std::vector<int> rank(m.number_of_vertices() + m.number_of_removed_vertices(), -1);
+    for (std::size_t k = 0; k < vs.size(); ++k) rank[vs[k].idx()] = int(k);
+    struct Entry {
+        std::array<int, 3> v;
+        int origin;
+    };
+    std::vector<Entry> faces;
+    faces.reserve(m.number_of_faces());
+    for (Face f : m.faces()) {
+        Entry e{{-1, -1, -1}, origin[f]};
+        int k = 0;
+        for (Vertex v : CGAL::vertices_around_face(m.halfedge(f), m))
+            if (k < 3) e.v[std::size_t(k++)] = rank[v.idx()];
+        std::rotate(e.v.begin(), std::min_element(e.v.begin(), e.v.end()), e.v.end());
+        faces.push_back(e);
+    }
+    std::stable_sort(faces.begin(), faces.end(), [](const Entry& a, const Entry& b) { return a.v < b.v; });
+    out.clear();
+    out.reserve(Mesh::size_type(vs.size()), Mesh::size_type(3 * faces.size() / 2), Mesh::size_type(faces.size()));
+    std::vector<Vertex> added;
+    added.reserve(vs.size());
+    for (Vertex v : vs) added.push_back(out.add_vertex(m.point(v)));
+    OriginMap out_origin = out.add_property_map<Face, int>(kOrigin, -1).first;
+    for (const Entry& e : faces) {
+        const Face f = out.add_face(added[std::size_t(e.v[0])], added[std::size_t(e.v[1])], added[std::size_t(e.v[2])]);
+        if (f == Mesh::null_face()) return false;
+        out_origin[f] = e.origin;
+    }
+    return true;
 }
 
 // Dual contouring at an adaptivity > 0 occasionally folds a few triangles of a cell where cells of
@@ -295,6 +339,12 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
     if (!ok) return fail("the intersection with its cell is not manifold");
     if (out.has_garbage()) out.collect_garbage();
     if (out.number_of_faces() == 0) return fail("its cell does not meet the input surface");
+    {
+        Mesh ordered;
+        if (!CGAL::is_triangle_mesh(out) || !canonical_order(out, out.property_map<Face, int>(kOrigin).first, ordered))
+            return fail("the intersection with its cell is not a manifold triangle mesh");
+        out = std::move(ordered);
+    }
     {
         const OriginMap origin = out.property_map<Face, int>(kOrigin).first;
         std::vector<Face> fracture;

@@ -139,6 +139,42 @@ TEST(Writers, FileContents) {
     EXPECT_EQ(text.substr(0, 16), "solid crackflow\n");
 }
 
+// Corner UVs and normals: one vt / vn per distinct value (exact; -0 and +0 are one value), in order
+// of first use, and every corner reads back as written.
+TEST(Writers, ObjCornerAttributesAreSharedInOrderOfFirstUse) {
+    SurfaceMesh m = unit_cube();
+    const std::array<Vec2, 4> uv = {Vec2(0.25, 0.5), Vec2(-0.0, 1.0 / 3), Vec2(0.0, 1.0 / 3), Vec2(0.75, 0.1)};
+    m.corner_uv.resize(m.triangles.size());
+    m.corner_normal.resize(m.triangles.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            m.corner_uv[t][std::size_t(k)] = uv[(t + std::size_t(k)) % 4];
+            m.corner_normal[t][std::size_t(k)] = triangle_normal(m, t);
+        }
+    std::ostringstream os;
+    write_obj(os, m);
+    const std::string text = os.str();
+    std::vector<std::string> vt;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("vt ", 0) == 0) vt.push_back(line);
+    // Triangle 0 uses uv 0, 1 (-0), 2 (+0, the same value): vt lines 0.25 0.5, -0 ..., then 0.75 0.1.
+    ASSERT_EQ(vt.size(), 3u) << text;
+    EXPECT_EQ(vt[0], "vt 0.25 0.5");
+    EXPECT_EQ(vt[1].rfind("vt -0 0.333", 0), 0u) << vt[1];  // the first of -0 / +0 seen is written
+    EXPECT_EQ(vt[2], "vt 0.75 0.1");
+    const auto dir = fresh_dir("obj-corners");
+    write_mesh_file(dir / "c.obj", m, MeshFormat::Obj, false);
+    const SurfaceMesh back = read_mesh(dir / "c.obj");
+    ASSERT_TRUE(back.has_uv() && back.has_normals());
+    ASSERT_EQ(back.triangles.size(), m.triangles.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(back.corner_uv[t][std::size_t(k)], m.corner_uv[t][std::size_t(k)]) << t;
+            EXPECT_EQ(back.corner_normal[t][std::size_t(k)], m.corner_normal[t][std::size_t(k)]) << t;
+        }
+}
+
 TEST(Writers, BinaryStlHeaderDoesNotStartWithSolid) {
     std::ostringstream os;
     write_stl(os, tetrahedron(), true);
