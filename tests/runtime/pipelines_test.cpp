@@ -5,6 +5,7 @@
 #include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -24,6 +25,9 @@ std::vector<std::filesystem::path> shipped_pipelines() {
 }
 
 class ShippedPipeline : public ::testing::TestWithParam<std::filesystem::path> {};
+
+// "lib/fracture.yaml" -> "fracture.yaml"
+std::string fs_name(const std::string& use) { return std::filesystem::path(use).filename().string(); }
 
 }  // namespace
 
@@ -106,6 +110,74 @@ TEST(ShippedPipelines, ArtistPipelinesKeepTheInputSurface) {
         EXPECT_EQ(with_surface, exports) << file << ": export.fragments without the input surface";
     }
 }
+
+// Every case on the fracture library runs, at --fast, with the surface mesher too: its `use` node
+// gets the mesh its object's level set is made from as `surface` (one line, as docs/pipelines.md
+// says), and every fragment keeps the input surface, none falls back to its level-set mesh.
+class CaseWithSurfaceMesher : public ::testing::TestWithParam<std::filesystem::path> {};
+
+std::vector<std::filesystem::path> fracture_library_cases() {
+    std::vector<std::filesystem::path> r;
+    for (const auto& p : shipped_pipelines()) {
+        std::ifstream in(p);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (text.find("use: lib/fracture.yaml") != std::string::npos) r.push_back(p);
+    }
+    return r;
+}
+
+TEST_P(CaseWithSurfaceMesher, EveryFragmentKeepsTheInputSurface) {
+    YAML::Node doc = YAML::LoadFile(GetParam().string());
+    YAML::Node nodes = doc["nodes"];
+    std::string mesh, use_node;
+    for (const auto& n : nodes) {
+        const YAML::Node v = n.second;
+        if (v["use"] && v["use"].as<std::string>() == "lib/fracture.yaml") use_node = n.first.as<std::string>();
+        if (v["use"] && v["use"].as<std::string>() == "lib/surface.yaml") mesh = v["inputs"]["mesh"].as<std::string>();
+        if (n.first.as<std::string>() == "object" && v["type"] && v["type"].as<std::string>() == "levelset.from_mesh")
+            mesh = v["inputs"]["mesh"].as<std::string>();
+    }
+    ASSERT_FALSE(mesh.empty()) << "no object mesh found in " << GetParam();
+    ASSERT_FALSE(use_node.empty());
+    nodes[use_node]["inputs"]["surface"] = mesh;
+    const std::string lib = std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/lib/";
+    for (auto n : nodes)
+        if (n.second["use"]) n.second["use"] = lib + fs_name(n.second["use"].as<std::string>());
+    const std::filesystem::path dir = cf::testing::temp_dir("surface-case-" + GetParam().stem().string());
+    const std::filesystem::path file = dir / GetParam().filename();
+    {
+        YAML::Emitter e;
+        e << doc;
+        std::ofstream(file) << e.c_str() << '\n';
+    }
+    std::vector<cf::graph::Diagnostic> diags;
+    cf::graph::LoadOptions options;
+    options.fast = true;
+    auto plan = cf::graph::load_pipeline_file(file.string(), cf::node_registry(), options, diags);
+    std::string text;
+    for (const auto& d : diags) text += cf::graph::format(d) + "\n";
+    ASSERT_TRUE(diags.empty()) << text;
+    cf::graph::RunOptions run;
+    run.fast = true;
+    run.output_dir = dir / "out";
+    auto result = cf::graph::execute(plan, run);
+    ASSERT_TRUE(result.ok) << result.error;
+    int exports = 0;
+    for (const auto& st : result.stats)
+        if (st.type == "export.fragments") {
+            ++exports;
+            ASSERT_TRUE(st.counts.count("fallback_fragments")) << st.name << " did not use the surface mesher";
+            EXPECT_EQ(st.counts.at("fallback_fragments"), 0) << st.name;
+        }
+    EXPECT_EQ(exports, 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(FractureLibrary, CaseWithSurfaceMesher, ::testing::ValuesIn(fracture_library_cases()),
+                         [](const auto& info) {
+                             std::string n = info.param.stem().string();
+                             for (char& c : n) if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             return n;
+                         });
 
 TEST(ShippedPipelines, ThereIsADefaultPipeline) {
     EXPECT_TRUE(std::filesystem::exists(std::string(CRACKFLOW_SOURCE_DIR) + "/pipelines/default.yaml"));
