@@ -27,6 +27,7 @@ const double kCreaseCos = std::cos(30.0 * M_PI / 180.0);
 struct RenderMesh {
     std::vector<float> positions;  // x y z per output vertex [m], body frame
     std::vector<float> normals;    // unit, per output vertex
+    std::vector<float> uvs;        // u v per output vertex (v flipped: glTF's origin is the top left); empty: none
     std::vector<std::uint32_t> indices;
 };
 
@@ -66,29 +67,36 @@ Vec3 corner_normal(const SurfaceMesh& m, const VertexTriangles& vt, const std::v
 }
 
 // The triangles of m that are (want_inside) or are not in region `inside` (all of them when
-// inside < 0), with normals from all of m's triangles, so the parts shade alike where they meet.
+// inside < 0). Normals: the mesh's own corner normals where it has them (an artist's surface kept by
+// the surface mesher), else from all of m's triangles within the crease angle, so the parts shade
+// alike where they meet. Texture coordinates where the mesh has them.
 RenderMesh render_mesh(const SurfaceMesh& m, int inside, bool want_inside) {
     const VertexTriangles vt = vertex_triangles(m);
     std::vector<Vec3> unit(m.num_triangles());
     for (std::size_t t = 0; t < m.num_triangles(); ++t) unit[t] = triangle_normal(m, t);
+    const bool own_normals = m.has_normals(), uv = m.has_uv();
 
     RenderMesh r;
-    // Output vertices made so far for each input vertex, by their float32 normal: corners whose
-    // normals round to the same floats share one output vertex.
-    std::vector<std::vector<std::pair<std::array<float, 3>, std::uint32_t>>> made(m.num_vertices());
+    // Output vertices made so far for each input vertex, by their float32 normal and uv: corners
+    // whose attributes round to the same floats share one output vertex.
+    using Key = std::array<float, 5>;
+    std::vector<std::vector<std::pair<Key, std::uint32_t>>> made(m.num_vertices());
     for (std::size_t t = 0; t < m.num_triangles(); ++t) {
         if (inside >= 0 && (m.region_of(t) == inside) != want_inside) continue;
-        for (int corner : m.triangles[t]) {
-            const auto v = static_cast<std::size_t>(corner);
-            const Vec3 n = corner_normal(m, vt, unit, v, t);
-            const std::array<float, 3> nf{float(n.x()), float(n.y()), float(n.z())};
-            auto it = std::find_if(made[v].begin(), made[v].end(), [&](const auto& e) { return e.first == nf; });
+        for (int k = 0; k < 3; ++k) {
+            const auto v = static_cast<std::size_t>(m.triangles[t][k]);
+            Vec3 n = own_normals ? m.corner_normal[t][k].normalized() : corner_normal(m, vt, unit, v, t);
+            if (!n.allFinite() || !(n.squaredNorm() > 0.5)) n = Vec3::UnitZ();  // a zero normal from the file: glTF needs unit ones
+            const Vec2 w = uv ? m.corner_uv[t][k] : Vec2::Zero();
+            const Key key{float(n.x()), float(n.y()), float(n.z()), float(w.x()), float(1.0 - w.y())};
+            auto it = std::find_if(made[v].begin(), made[v].end(), [&](const auto& e) { return e.first == key; });
             if (it == made[v].end()) {
                 const auto index = static_cast<std::uint32_t>(r.positions.size() / 3);
                 const Vec3& x = m.vertices[v];
                 r.positions.insert(r.positions.end(), {float(x.x()), float(x.y()), float(x.z())});
-                r.normals.insert(r.normals.end(), nf.begin(), nf.end());
-                made[v].emplace_back(nf, index);
+                r.normals.insert(r.normals.end(), key.begin(), key.begin() + 3);
+                if (uv) r.uvs.insert(r.uvs.end(), key.begin() + 3, key.end());
+                made[v].emplace_back(key, index);
                 r.indices.push_back(index);
             } else {
                 r.indices.push_back(it->second);
@@ -102,6 +110,8 @@ void add_primitive(GlbBuilder& b, tinygltf::Mesh& mesh, const RenderMesh& r, int
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = b.add_floats(r.positions, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
     prim.attributes["NORMAL"] = b.add_floats(r.normals, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+    if (!r.uvs.empty())
+        prim.attributes["TEXCOORD_0"] = b.add_floats(r.uvs, 2, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
     prim.indices = b.add_indices(r.indices);
     prim.material = material;
     prim.mode = TINYGLTF_MODE_TRIANGLES;

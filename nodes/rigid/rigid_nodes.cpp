@@ -14,9 +14,11 @@
 #include "nodes/rigid/scene_preview.hpp"
 #include "nodes/rigid/scene_report.hpp"
 #include "nodes/rigid/transform_cache.hpp"
+#include "nodes/segment/surface_fragments.hpp"
 #include "nodes/vec3_param.hpp"
 
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -82,6 +84,10 @@ void declare_body_params(graph::NodeType& t) {
     t.param_real("threshold_fraction", 0.25, "", "breakable: see force_threshold").above(0).at_most(1);
     t.param_real("min_fragment_fraction", 1e-6, "", "breakable: fragments below this fraction of the original volume are "
                  "dropped (counted)").range(0, 0.01);
+    t.param_choice("fragment_mesh", "surface", {"surface", "levelset"},
+                   "breakable: what fragments are drawn with: surface keeps the body's own triangles (clipped where "
+                   "cracks cut them; fracture faces in the material 'inside'), levelset draws each fragment's "
+                   "level-set mesh. Their motion is the same either way");
     t.param_string("fracture", "",
                    "breakable: the fracture pipeline a collision runs (relative to this pipeline's file); empty: the "
                    "built-in one, pipelines/impact/fracture.yaml");
@@ -135,6 +141,7 @@ std::shared_ptr<rigid::FractureSettings> fracture_settings(graph::NodeContext& c
     fs->method = c.string("method");
     fs->switch_elements = c.integer("switch_elements");
     fs->min_fragment_fraction = c.real("min_fragment_fraction");
+    fs->keep_surface = c.string("fragment_mesh") == "surface";
     if (!c.string("fracture").empty()) fs->fracture_pipeline = resolve_pipeline(c, c.string("fracture"));
     if (!c.run_options().registry) c.fail("no node registry to load the fracture pipeline with");
     try {
@@ -168,6 +175,14 @@ std::shared_ptr<const rigid::BreakableModel> breakable_model(graph::NodeContext&
     fs->force_threshold = c.real("force_threshold") >= 0 ? c.real("force_threshold")
                                                          : c.real("threshold_fraction") * m.tensile_strength * mean_area;
     model.settings = fs;
+    if (fs->keep_surface) {
+        try {
+            const SurfaceClipper check(b.mesh);  // fail now, not at the first break
+        } catch (const std::invalid_argument& e) {
+            c.fail("body '" + b.name + "', input 'mesh': " + e.what() + " (or set 'fragment_mesh' to levelset)");
+        }
+        model.surface = std::make_shared<const SurfaceMesh>(b.mesh);
+    }
     c.count("bem_triangles", double(model.bem_mesh->num_triangles()));
     c.count("volume_m3", model.volume);
     c.count("impulse_threshold_Ns", fs->impulse_threshold);
@@ -305,6 +320,9 @@ graph::NodeType frame_node() {
         c.count("fracture_runs", r.fracture_runs);
         c.count("breaks", r.breaks);
         c.count("new_pieces", r.new_pieces);
+        c.count("surface_fallbacks", r.surface_fallbacks);
+        c.count("surface_folded", r.surface_folded);
+        for (const std::string& w : r.warnings) std::cerr << "warning: rigid.frame: " << w << '\n';
         c.count("rigid_seconds", r.rigid_seconds);
         c.count("fracture_seconds", r.fracture_seconds);
         c.out("scene", std::move(out));

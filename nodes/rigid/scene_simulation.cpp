@@ -1,6 +1,7 @@
 #include "nodes/rigid/scene_simulation.hpp"
 
 #include "nodes/segment/fracture_faces.hpp"
+#include "nodes/segment/fragment_mesher.hpp"
 
 #include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
@@ -392,6 +393,12 @@ struct SceneSimulation::Impl {
         BodySpec spec;
         AnimationPiece anim;
         std::size_t carried = 0;  // incomplete-crack triangles it carries
+        // What it is drawn with (material frame) and the cell it was clipped to; null / empty when
+        // its parent has no surface to keep.
+        std::shared_ptr<const SurfaceMesh> surface;
+        LevelSet cell;
+        std::string warning;      // the surface mesher fell back to the level-set mesh: why
+        bool folded = false;      // drawn with folds in its fracture faces that could not be mended
     };
     // The volume class of a fragment (ch. 7.3): (d) large, keeps the parent's BEM mesh; (c)
     // breakable; (b) collides as a mesh; (a) collides as its convex hull.
@@ -414,6 +421,8 @@ struct SceneSimulation::Impl {
             BreakableModel bm = make_breakable_model(model.settings, f.grid, model.original_volume,
                                                      cls == PieceClass::large ? model.bem_mesh : nullptr, f.volume);
             bm.authored = model.authored.empty() ? model.object : model.authored;
+            bm.surface = model.surface;  // its fragments are clipped from the authored surface too ...
+            bm.cell = out.cell;          // ... to cells within its own
             if (cls == PieceClass::large) {  // the parent's BEM mesh, so its operators and factor too (ch. 7.3 (d))
                 bm.surface_blocks = model.surface_blocks;
                 bm.surface_factor = model.surface_factor;
@@ -455,17 +464,28 @@ struct SceneSimulation::Impl {
     }
 
     PreparedFragment prepare_fragment(int parent_id, const BodyState& s, const Fragment& f, int frame,
-                                      const std::shared_ptr<const propagate::FractureState>& cracks) const {
+                                      const std::shared_ptr<const propagate::FractureState>& cracks,
+                                      const FragmentMesher* mesher, std::size_t index) const {
         const Piece& parent = pieces[static_cast<std::size_t>(parent_id)];
         const BreakableModel& model = *parent.breakable;
         const std::shared_ptr<const FractureSettings> fs = model.settings;
         PieceClass cls = fragment_class(model, f);
-
         PreparedFragment out;
+
         const Eigen::Isometry3d material_to_world = body_to_world(s) * parent.material_to_body;
         SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
         tag_fracture_faces(material_mesh, model.authored.empty() ? model.object : model.authored,
                            kFractureFaceDepthVoxels * model.object.voxel_size);
+        // Drawn with the parent's surface clipped to the fragment (the motion below still comes
+        // from the level-set mesh, so keeping the surface changes no trajectory); where the clip
+        // fails, with the level-set mesh, which later generations then clip.
+        if (mesher) {
+            SurfaceMesh clipped = mesher->mesh(index, &out.warning, &out.folded, &out.cell);
+            // The mesher gives flat normals where the surface has none; drawn like its parent
+            // instead (normals by crease angle), so a piece does not change its shading as it breaks.
+            if (!model.surface->has_normals()) clipped.corner_normal.clear();
+            out.surface = std::make_shared<const SurfaceMesh>(out.warning.empty() ? std::move(clipped) : material_mesh);
+        }
         const FragmentBody fb = fragment_body(material_mesh, f.volume, model.settings->material.rho, material_to_world,
                                               RigidMotion{s.position, s.velocity, s.angular_velocity});
 
@@ -502,7 +522,8 @@ struct SceneSimulation::Impl {
         anim.piece_class = cls;
         anim.volume = f.volume;
         anim.dynamic = true;
-        anim.rest_mesh = std::make_shared<const SurfaceMesh>(transformed(material_mesh, piece.material_to_body));
+        anim.rest_mesh = std::make_shared<const SurfaceMesh>(
+            transformed(out.surface ? *out.surface : material_mesh, piece.material_to_body));
         anim.first_frame = frame;
         return out;
     }
@@ -521,6 +542,7 @@ struct SceneSimulation::Impl {
         std::vector<std::pair<int, std::vector<const Fragment*>>> broken;
         std::vector<std::size_t> run_of_break;  // index into runs per entry of broken
         std::vector<std::shared_ptr<const propagate::FractureState>> state_of_break;
+        std::vector<const Fragments*> fragments_of_break;  // the run's fragments, kept ones and dropped
     };
 
     // The runs' records (appended to `runs`) and their effect on the bodies that did not break:
@@ -566,6 +588,7 @@ struct SceneSimulation::Impl {
                 out.broken.emplace_back(c.piece, std::move(kept));
                 out.run_of_break.push_back(runs.size());
                 out.state_of_break.push_back(state);
+                out.fragments_of_break.push_back(&c.outcome.fragments);
             } else {
                 Piece& q = pieces[static_cast<std::size_t>(c.piece)];
                 q.withstood_impulse = std::max(q.withstood_impulse, c.loads.impulse);
@@ -596,12 +619,38 @@ struct SceneSimulation::Impl {
             for (const Fragment* f : breaks.broken[b].second) jobs.push_back({b, f});
         std::vector<PreparedFragment> prepared(jobs.size());
         const CancelToken cancel = CancelToken::current();  // read here: workers have no node of their own
+        // One surface mesher per broken body that keeps its surface: the cells of all its run's
+        // fragments (dropped ones too: they fill their part of the object) and its clipper.
+        std::vector<std::unique_ptr<FragmentMesher>> meshers(breaks.broken.size());
+        tbb::parallel_for(std::size_t(0), breaks.broken.size(), [&](std::size_t b) {
+            cancel.poll();
+            const CancelScope scope(cancel);
+            const BreakableModel& model = *pieces[static_cast<std::size_t>(breaks.broken[b].first)].breakable;
+            if (!model.surface || !model.settings->keep_surface) return;
+            FragmentMesherOptions o;
+            o.kind = FragmentMesherKind::surface;
+            o.surface = model.surface.get();
+            o.keep_folds = true;  // a mesh to draw: a fold in a fracture face beats losing the artist's surface
+            o.bound = model.cell.empty() ? nullptr : &model.cell;
+            try {
+                meshers[b] = std::make_unique<FragmentMesher>(*breaks.fragments_of_break[b], o);
+            } catch (const std::invalid_argument& e) {
+                // A level-set mesh drawn earlier that self-intersects: its fragments fall back.
+                meshers[b].reset();
+            }
+        });
         tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
             cancel.poll();
             const CancelScope scope(cancel);  // the remesh and meshing inside poll it too
-            const int id = breaks.broken[jobs[k].broken].first;
+            const std::size_t b = jobs[k].broken;
+            const int id = breaks.broken[b].first;
+            const Fragments& all = *breaks.fragments_of_break[b];
+            const auto index = static_cast<std::size_t>(jobs[k].fragment - all.fragments.data());
             prepared[k] = prepare_fragment(id, before[static_cast<std::size_t>(id)], *jobs[k].fragment, frame,
-                                           breaks.state_of_break[jobs[k].broken]);
+                                           breaks.state_of_break[b], meshers[b].get(), index);
+            const BreakableModel& model = *pieces[static_cast<std::size_t>(id)].breakable;
+            if (!meshers[b] && model.surface && model.settings->keep_surface)
+                prepared[k].warning = "its parent's surface could not be clipped";
         });
         for (std::size_t b = 0; b < breaks.broken.size(); ++b) {
             const int id = breaks.broken[b].first;
@@ -614,7 +663,14 @@ struct SceneSimulation::Impl {
         }
         for (std::size_t k = 0; k < jobs.size(); ++k) {
             runs[breaks.run_of_break[jobs[k].broken]].carried_triangles += prepared[k].carried;
+            const std::string warning = std::move(prepared[k].warning);
+            const bool folded = prepared[k].folded;
             add_fragment(std::move(prepared[k]));
+            if (!warning.empty()) {
+                report.surface_fallbacks += 1;
+                report.warnings.push_back(animation.back().name + " (drawn with its level-set mesh): " + warning);
+            }
+            report.surface_folded += folded ? 1 : 0;
         }
     }
 

@@ -46,6 +46,11 @@ struct FractureSettings {
     double force_threshold = 0;        // ... or sum J / t_c >= this [N]
     double min_fragment_fraction = 1e-6;  // fragments below this fraction of the original volume are dropped
     double collision_mesh_factor = 5;  // non-convex collision meshes: this many times bem_triangles
+    // Fragments drawn with the body's own surface (its triangles outside, fracture faces in the
+    // region "inside": the surface mesher of export.fragments, issue 14), or with their level-set
+    // meshes (false). Their motion is the same either way: mass, inertia and collision shapes come
+    // from the level-set meshes.
+    bool keep_surface = true;
     std::filesystem::path fracture_pipeline;  // the pipeline a collision runs (absolute)
     ContactDurationLimits limits;
 };
@@ -59,6 +64,14 @@ struct BreakableModel {
     // whichever generation made them.
     LevelSet authored;
     std::shared_ptr<const SurfaceMesh> bem_mesh;
+    // The authored mesh (material frame) its fragments are drawn with: the surface mesher clips it
+    // to each fragment's cell (its triangles outside, fracture faces in region "inside"). Null: the
+    // fragments are drawn with their level-set meshes.
+    std::shared_ptr<const SurfaceMesh> surface;
+    // A fragment's cell (FragmentCells: the region its mesh was clipped to, within its parent's
+    // cell); its own fragments' cells stay within it, so every generation keeps the fracture
+    // faces of the ones before. Empty for an authored body.
+    LevelSet cell;
     std::vector<double> curvature;          // |H| per BEM triangle [1/m] (Hertz radius)
     double volume = 0;                      // level-set volume [m^3]
     double original_volume = 0;             // of the authored body it descends from [m^3]
@@ -171,6 +184,13 @@ struct FractureRunRecord {
 
 struct FrameReport {
     int fracture_runs = 0, breaks = 0, new_pieces = 0;
+    // Fragments drawn with their level-set mesh although their parent keeps its surface (the
+    // surface mesher could not clip them; the warning names them).
+    int surface_fallbacks = 0;
+    // Fragments drawn with the authored surface but with folds in their fracture faces that could
+    // not be mended (closed and manifold, a few fracture faces crossing).
+    int surface_folded = 0;
+    std::vector<std::string> warnings;
     double rigid_seconds = 0, fracture_seconds = 0;
 };
 

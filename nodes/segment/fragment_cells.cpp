@@ -246,8 +246,11 @@ FragmentCells::~FragmentCells() = default;
 
 double FragmentCells::margin() const { return g_->margin; }
 
-LevelSet FragmentCells::cell(std::size_t i) const {
+LevelSet FragmentCells::cell(std::size_t i, const LevelSet* bound) const {
     const Grids& g = *g_;
+    if (bound && !bound->empty() && std::abs(bound->voxel_size - g.voxel) > 1e-9 * g.voxel)
+        throw std::invalid_argument("a cell's bound must have the fragments' voxel size");
+    const openvdb::FloatGrid* bound_grid = bound && !bound->empty() ? &grid_of(*bound) : nullptr;
     const openvdb::FloatGrid& phi_i = grid_of(g.phi.at(i));
     // The domain: the fragment's grid (its inside tiles stay inside) and margin + 1 voxels more,
     // so the offset surface has values on both sides.
@@ -260,6 +263,8 @@ LevelSet FragmentCells::cell(std::size_t i) const {
     leaves.foreach([&](FloatLeaf& leaf, std::size_t) {
         auto obj = grid_of(g.object).getConstAccessor();
         openvdb::tree::ValueAccessor<const IntTree> zone(*g.zone), label(*g.label);
+        std::unique_ptr<openvdb::FloatGrid::ConstAccessor> outer_cell;
+        if (bound_grid) outer_cell = std::make_unique<openvdb::FloatGrid::ConstAccessor>(bound_grid->getConstAccessor());
         for (auto v = leaf.beginValueOn(); v; ++v) {
             const Coord c = v.getCoord();
             const float outer = obj.getValue(c) - margin;  // the object offset by the margin
@@ -280,7 +285,7 @@ LevelSet FragmentCells::cell(std::size_t i) const {
                 const int l = label.getValue(c);
                 bisector = (l < 0 || l == self) ? -0.5f * cap : 0.5f * cap;
             }
-            v.setValue(std::max(bisector, outer));
+            v.setValue(outer_cell ? std::max({bisector, outer, outer_cell->getValue(c)}) : std::max(bisector, outer));
         }
     });
     return wrap_grid(psi, g.voxel, g.phi[i].half_width);

@@ -33,8 +33,10 @@ public:
     // The dual-contoured zero set of psi_i at an adaptivity in [0, 1]: closed, outward oriented
     // (thread-safe, any order).
     SurfaceMesh cell_mesh(std::size_t i, double adaptivity = 0) const;
-    // psi_i as a level set (tests).
-    LevelSet cell(std::size_t i) const;
+    // psi_i as a level set; with `bound` (same voxel size and frame), max(psi_i, bound): the cell
+    // within the cell of an earlier break, so a fragment broken again keeps its earlier fracture
+    // faces where its own cell reaches past them (rigid-body scenes).
+    LevelSet cell(std::size_t i, const LevelSet* bound = nullptr) const;
     double margin() const;  // [m]
 
 private:

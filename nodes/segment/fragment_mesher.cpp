@@ -26,12 +26,20 @@ FragmentMesher::FragmentMesher(const Fragments& f, const FragmentMesherOptions& 
 
 FragmentMesher::~FragmentMesher() = default;
 
-SurfaceMesh FragmentMesher::mesh(std::size_t i, std::string* warning) const {
+SurfaceMesh FragmentMesher::mesh(std::size_t i, std::string* warning, bool* folded, LevelSet* cell_out) const {
+    if (folded) *folded = false;
     if (clipper_) {
-        SurfaceMesh m;
+        SurfaceMesh m, with_folds;
         std::string problem;
-        SurfaceMesh cell = cells_->cell_mesh(i, o_.adaptivity);
-        if (clipper_->clip(cell, m, &problem)) return m;
+        bool has_folds = false;
+        LevelSet psi = cells_->cell(i, o_.bound);
+        SurfaceMesh cell = level_set_to_mesh(psi, o_.adaptivity);
+        if (cell_out) *cell_out = std::move(psi);
+        if (clipper_->clip(cell, m, &problem, o_.keep_folds ? &has_folds : nullptr)) {
+            if (!has_folds) return m;
+            with_folds = std::move(m);
+            problem = "its fracture faces intersect each other";
+        }
         // Dual contouring occasionally folds a few triangles of a cell where its fracture faces
         // meet the offset surface (a crease of psi_i); where that is near the input the
         // corefinement fails. The folds are cut out and the holes filled, then it is tried again.
@@ -40,6 +48,10 @@ SurfaceMesh FragmentMesher::mesh(std::size_t i, std::string* warning) const {
             if (clipper_->clip(cell, m, &problem)) return m;
         } catch (const std::exception& e) {
             problem += std::string("; repairing its cell failed: ") + e.what();
+        }
+        if (has_folds) {
+            if (folded) *folded = true;
+            return with_folds;
         }
         if (warning) *warning = "fragment " + std::to_string(i) + ": " + problem + "; written as its level-set mesh";
     }

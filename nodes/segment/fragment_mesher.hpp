@@ -24,6 +24,11 @@ struct FragmentMesherOptions {
     double adaptivity = 0;         // [0, 1]: the level-set meshes, and the cells of the surface mesher (its fracture faces)
     const SurfaceMesh* surface = nullptr;  // the input surface; needed by kind surface
     double margin_voxels = 2;      // how far a cell reaches beyond its fragment [voxels], in [1, 8]
+    // Kind surface: a fragment whose folded fracture faces cannot be mended keeps its folds (a mesh
+    // to draw, SurfaceClipper::clip) instead of falling back to its level-set mesh.
+    bool keep_folds = false;
+    // Kind surface: every cell within this level set (FragmentCells::cell's bound; null: none).
+    const LevelSet* bound = nullptr;
 };
 
 class FragmentMesher {
@@ -34,8 +39,10 @@ public:
     FragmentMesher(const Fragments& f, const FragmentMesherOptions& options);
     ~FragmentMesher();
 
-    // Fragment i's mesh; thread-safe. For a fall-back, *warning says which fragment and why.
-    SurfaceMesh mesh(std::size_t i, std::string* warning = nullptr) const;
+    // Fragment i's mesh; thread-safe. For a fall-back, *warning says which fragment and why;
+    // *folded is set when it keeps folds (keep_folds); *cell gets its cell (kind surface).
+    SurfaceMesh mesh(std::size_t i, std::string* warning = nullptr, bool* folded = nullptr,
+                     LevelSet* cell = nullptr) const;
 
 private:
     const Fragments& f_;

@@ -292,7 +292,8 @@ SurfaceClipper::~SurfaceClipper() = default;
 const InsideUvProjection& SurfaceClipper::projection() const { return impl_->projection; }
 int SurfaceClipper::inside_region() const { return impl_->inside; }
 
-bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::string* problem) const {
+bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::string* problem, bool* folded) const {
+    if (folded) *folded = false;
     auto fail = [&](const std::string& why) {
         if (problem) *problem = why;
         return false;
@@ -350,8 +351,15 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
         std::vector<Face> fracture;
         for (Face f : out.faces())
             if (origin[f] < 0) fracture.push_back(f);
-        if (PMP::does_self_intersect(fracture, out) && !mend_folded_fracture_faces(out, origin, kMendRounds))
-            return fail("its fracture faces intersect each other");
+        if (PMP::does_self_intersect(fracture, out)) {
+            Mesh unmended;
+            if (folded) unmended = out;
+            if (!mend_folded_fracture_faces(out, origin, kMendRounds)) {
+                if (!folded) return fail("its fracture faces intersect each other");
+                out = std::move(unmended);
+                *folded = true;
+            }
+        }
         if (out.has_garbage()) out.collect_garbage();
     }
     SurfaceMesh m = impl_->convert(out, out.property_map<Face, int>(kOrigin).first);

@@ -38,7 +38,10 @@ public:
     // none), corner_normal likewise (input normals, or the flat face normal). Thread-safe. Returns
     // false with *problem set when the cell is not closed, manifold and free of self-intersections,
     // or the result is empty, open or non-manifold: the caller falls back to the level-set mesh.
-    bool clip(const SurfaceMesh& cell, SurfaceMesh& out, std::string* problem) const;
+    // With `folded`: where folds of the fracture faces cannot be mended, the result keeps them
+    // (closed and manifold, its fracture faces crossing each other near the folds: fine to draw, not
+    // to clip again) and *folded is set; without it, that is a failure too.
+    bool clip(const SurfaceMesh& cell, SurfaceMesh& out, std::string* problem, bool* folded = nullptr) const;
 
     const InsideUvProjection& projection() const;
     int inside_region() const;  // the id of kInsideRegion in every clipped mesh

@@ -9,14 +9,21 @@
 #include "nodes/rigid/scene_simulation.hpp"
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/levelset/level_set.hpp"
+#include "nodes/export/mesh_writers.hpp"
 #include "nodes/shape/box.hpp"
 #include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+#include <tiny_gltf.h>
+
 #include <chrono>
 #include <cmath>
+#include <array>
 #include <csignal>
+#include <cstring>
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -387,4 +394,208 @@ TEST(Scene, BreakingBarBreaksBetweenItsSupports) {
     EXPECT_GT(right[2], (support - half_width) - 0.5);
     EXPECT_LT(right[2], support - half_width);
     for (std::size_t k = 2; k < frags.size(); ++k) EXPECT_LT(std::abs(frags[k][8]), support - half_width) << k;
+}
+
+namespace {
+
+// The artist's box of the surface test: 0.15 m, 4 x 4 cells a face, the z faces in material "paint",
+// the others in "stone", and texture coordinates affine in the position, so the UV area of any
+// piece of it are one affine map of the position.
+cf::SurfaceMesh authored_box() {
+    cf::BoxSpec spec;
+    spec.size = cf::Vec3(0.15, 0.15, 0.15);
+    cf::SurfaceMesh m = cf::make_box(spec);
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        const int face = m.region_of(t);  // x_min, x_max, y_min, y_max, z_min, z_max
+        m.region[t] = face >= 4 ? 1 : 0;
+        std::array<cf::Vec2, 3> uv;
+        for (int k = 0; k < 3; ++k) {
+            const cf::Vec3& x = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
+            uv[k] = cf::Vec2(3 * x.x() + 0.5 * x.y() + 0.25 * x.z() + 0.1, -x.x() + 2 * x.y() + 1.5 * x.z() + 0.2);
+        }
+        m.corner_uv.push_back(uv);
+    }
+    m.region_names = {"stone", "paint"};
+    return m;
+}
+
+// A scene of one breakable body (the box above, dropped from 0.5 m on the ground), written with
+// 'fragment_mesh' as given; returns the output directory.
+fs::path run_dropped_box(const std::string& fragment_mesh) {
+    const fs::path dir = cf::testing::temp_dir("keep-surface-" + fragment_mesh);
+    cf::write_mesh_file(dir / "box.obj", authored_box(), cf::MeshFormat::Obj, false);
+    const std::string yaml =
+        "nodes:\n"
+        "  plaster: {type: material.brittle, params: {E: 1.0e10, nu: 0.2, rho: 1500, tensile_strength: 5.0e4, "
+        "toughness: 2.0e3, compressive_factor: 10}}\n"
+        "  mesh: {type: import.mesh, params: {path: box.obj}}\n"
+        "  box:\n"
+        "    type: rigid.body\n"
+        "    inputs: {mesh: mesh.mesh, material: plaster.material}\n"
+        "    params: {breakable: true, r_f: 5.0e-3, r_c: 0.04, bem_triangles: 150, position: [0, 0, 0.5], "
+        "rotation: [35, 45, 0], fragment_mesh: " + fragment_mesh + "}\n"
+        "  scene: {type: rigid.scene, inputs: {bodies: box.bodies}, params: {time_step: 0.004, frame_rate: 50}}\n"
+        "  frames:\n"
+        "    type: loop\n"
+        "    params: {max_iterations: 20}\n"
+        "    inputs: {scene: scene.scene}\n"
+        "    body: {step: {type: rigid.frame, inputs: {scene: frames.scene}}}\n"
+        "    next: {scene: step.scene}\n"
+        "  animation: {type: export.animation, inputs: {scene: frames.final.scene}}\n";
+    { std::ofstream(dir / "scene.yaml") << yaml; }
+    std::string log;
+    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + (dir / "scene.yaml").string() + " --out " +
+                                   (dir / "out").string(),
+                               log);
+    EXPECT_EQ(rc, 0) << log;
+    EXPECT_EQ(log.find("level-set mesh"), std::string::npos) << "a fragment fell back:\n" << log;
+    return dir / "out";
+}
+
+// fracture_runs.csv without its wall-time column.
+std::string runs_without_seconds(const fs::path& out) {
+    std::istringstream csv(read_file(out / "fracture_runs.csv"));
+    std::string runs;
+    for (std::string line; std::getline(csv, line);) {
+        std::vector<std::string> cols;
+        std::stringstream ls(line);
+        for (std::string col; std::getline(ls, col, ',');) cols.push_back(col);
+        if (cols.size() > 13) cols[13] = "";  // seconds
+        for (const auto& col : cols) runs += col + ",";
+        runs += "\n";
+    }
+    return runs;
+}
+
+// A primitive's triangles as (positions, optional uvs) per corner.
+struct PrimitiveTriangles {
+    std::vector<std::array<cf::Vec3, 3>> xyz;
+    std::vector<std::array<cf::Vec2, 3>> uv;  // empty without TEXCOORD_0
+};
+
+template <class T>
+std::vector<T> accessor_values(const tinygltf::Model& m, int index) {
+    const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
+    const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    const unsigned char* p = m.buffers[static_cast<std::size_t>(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
+    const std::size_t n = a.count * static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)));
+    std::vector<T> out(n);
+    std::memcpy(out.data(), p, n * sizeof(T));
+    return out;
+}
+
+PrimitiveTriangles primitive_triangles(const tinygltf::Model& m, const tinygltf::Primitive& p) {
+    PrimitiveTriangles out;
+    const auto xyz = accessor_values<float>(m, p.attributes.at("POSITION"));
+    const auto idx = accessor_values<std::uint32_t>(m, p.indices);
+    std::vector<float> uv;
+    if (p.attributes.count("TEXCOORD_0")) uv = accessor_values<float>(m, p.attributes.at("TEXCOORD_0"));
+    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+        std::array<cf::Vec3, 3> x;
+        std::array<cf::Vec2, 3> w;
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t v = idx[t + static_cast<std::size_t>(k)];
+            x[k] = cf::Vec3(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+            if (!uv.empty()) w[k] = cf::Vec2(uv[2 * v], uv[2 * v + 1]);
+        }
+        out.xyz.push_back(x);
+        if (!uv.empty()) out.uv.push_back(w);
+    }
+    return out;
+}
+
+}  // namespace
+
+// Issue 14 in a scene: a breakable body's fragments, in every generation, are drawn with its own
+// triangles, clipped where the cracks cut them, with its texture coordinates; the fracture faces are
+// the second ("inside") primitive. Independent truth: the authored UVs are one affine map of the
+// position, so on every fragment's outer faces uv must be an affine map of the rest position whose
+// singular values are the authored map's (a rotation does not change them), which no level-set face
+// or box projection satisfies; every fragment is closed and manifold (its two primitives welded by
+// position). (Volumes against the level set: SurfaceFragments' tests.) And keeping the surface only changes what is drawn: with
+// 'fragment_mesh: levelset' every run and every frame of the motion is the same.
+TEST(Scene, FragmentsKeepTheBodysTrianglesAndTextureCoordinates) {
+    const fs::path kept = run_dropped_box("surface"), levelset = run_dropped_box("levelset");
+    const std::string runs = runs_without_seconds(kept);
+    ASSERT_NE(runs.find(",1,\"\","), std::string::npos) << "the box did not break:\n" << runs;
+    EXPECT_EQ(runs, runs_without_seconds(levelset));
+    int frames = 0;
+    for (const auto& f : fs::directory_iterator(kept / "pieces"))
+        if (f.path().filename().string().find("rest") == std::string::npos) {
+            EXPECT_EQ(read_file(f.path()), read_file(levelset / "pieces" / f.path().filename())) << f.path();
+            ++frames;
+        }
+    EXPECT_GT(frames, 10);
+
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warn;
+    ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, (kept / "scene.glb").string())) << err;
+    // The authored map uv = A x + c (authored_box), v flipped in glTF: its singular values.
+    Eigen::Matrix<double, 2, 3> A;
+    A << 3, 0.5, 0.25, -1, 2, 1.5;
+    const Eigen::Vector2d sigma = Eigen::JacobiSVD<Eigen::Matrix<double, 2, 3>>(A).singularValues();
+    int fragments = 0, generations = 0, spanning = 0;
+    for (const tinygltf::Node& node : model.nodes) {
+        if (node.mesh < 0 || node.name.find('.') == std::string::npos) continue;  // the root, the box itself
+        const tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(node.mesh)];
+        ++fragments;
+        generations = std::max(generations, int(std::count(node.name.begin(), node.name.end(), '.')));
+        // Outer faces, then fracture faces; a piece from deep inside the body has only the latter.
+        ASSERT_GE(mesh.primitives.size(), 1u);
+        ASSERT_LE(mesh.primitives.size(), 2u);
+        const bool has_outer = mesh.primitives.size() == 2;
+        const PrimitiveTriangles outer = has_outer ? primitive_triangles(model, mesh.primitives[0]) : PrimitiveTriangles{};
+        const PrimitiveTriangles inside = primitive_triangles(model, mesh.primitives.back());
+        EXPECT_EQ(model.materials[static_cast<std::size_t>(mesh.primitives.back().material)].name, node.name + ".inside");
+        ASSERT_EQ(outer.uv.size(), outer.xyz.size()) << node.name << ": no TEXCOORD_0 on its outer faces";
+        ASSERT_EQ(inside.uv.size(), inside.xyz.size()) << node.name << ": no TEXCOORD_0 on its fracture faces";
+        // uv = M x + c by least squares over the outer corners (float32 data: residual <= 1e-5).
+        // Where they span the space (not all on one face of the box), M's singular values are the
+        // authored map's; on one plane only its restriction to the plane is determined.
+        const auto corners = static_cast<Eigen::Index>(3 * outer.xyz.size());
+        Eigen::MatrixXd X(corners, 4), W(corners, 2);
+        for (std::size_t t = 0; t < outer.xyz.size(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                const auto row = static_cast<Eigen::Index>(3 * t + static_cast<std::size_t>(k));
+                X.row(row) << outer.xyz[t][k].transpose(), 1;
+                W.row(row) = outer.uv[t][k].transpose();
+            }
+        if (corners > 0) {
+            const Eigen::MatrixXd fit = X.colPivHouseholderQr().solve(W);  // 4 x 2
+            EXPECT_LT((X * fit - W).cwiseAbs().maxCoeff(), 1e-5) << node.name << ": outer uvs are not the authored map";
+            const Eigen::MatrixXd centred = X.leftCols(3).rowwise() - X.leftCols(3).colwise().mean();
+            if (Eigen::JacobiSVD<Eigen::MatrixXd>(centred).singularValues()[2] > 1e-3 * std::sqrt(double(corners))) {
+                const Eigen::Matrix<double, 2, 3> M = fit.topRows(3).transpose();
+                const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix<double, 2, 3>>(M).singularValues();
+                EXPECT_NEAR(s[0], sigma[0], 1e-3 * sigma[0]) << node.name;
+                EXPECT_NEAR(s[1], sigma[1], 1e-3 * sigma[1]) << node.name;
+                ++spanning;
+            }
+        }
+        // Closed and manifold: welded by float position (slivers that collapse in float32 dropped).
+        std::map<std::array<float, 3>, int> weld;
+        cf::SurfaceMesh welded;
+        double volume = 0, inside_area = 0;  // [m^3, m^2]
+        for (const PrimitiveTriangles* part : {&outer, &inside})
+            for (const auto& x : part->xyz) {
+                volume += x[0].dot(x[1].cross(x[2])) / 6;
+                if (part == &inside) inside_area += 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
+                cf::Tri tri;
+                for (int c = 0; c < 3; ++c) {
+                    const std::array<float, 3> key{float(x[c].x()), float(x[c].y()), float(x[c].z())};
+                    auto [it, added] = weld.emplace(key, static_cast<int>(welded.vertices.size()));
+                    if (added) welded.vertices.push_back(x[c]);
+                    tri[c] = it->second;
+                }
+                if (tri[0] != tri[1] && tri[1] != tri[2] && tri[2] != tri[0]) welded.triangles.push_back(tri);
+            }
+        const cf::MeshTopologyReport topo = cf::check_topology(welded, 0.0);
+        EXPECT_TRUE(topo.closed() && topo.manifold() && topo.consistently_oriented()) << node.name << ": " << topo.describe();
+        EXPECT_GT(volume, 0) << node.name;
+        EXPECT_GT(inside_area, 0) << node.name;
+    }
+    EXPECT_GE(fragments, 4);
+    EXPECT_GE(spanning, 2) << "too few fragments with outer faces on several sides of the box";
+    EXPECT_GE(generations, 2) << "no fragment broke again";
 }
