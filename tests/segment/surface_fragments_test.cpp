@@ -206,6 +206,64 @@ TEST(SurfaceFragments, UnionOfOuterFacesCoversTheInput) {
     std::cout << "input to outer faces: " << worst / kRf << " r_f\n";
 }
 
+// A fragment broken again (rigid-body scenes): the box cut by crack 1, the fragment on crack 1's
+// negative side cut by crack 2 from its own level set, its pieces' cells bounded by its cell of the
+// first break, the input clipped once per piece. Truth: the pieces keep the first break's fracture
+// face (no vertex beyond crack 1's plane farther than the first break's mesh reaches; without the
+// bound a cell reaches its margin, 2 r_f, past it), their fracture faces lie on the two planes, they
+// are closed, and together they fill that fragment's first-break mesh (volumes within 0.05 r_f times
+// the new crack's area, as the four pieces fill the box above).
+TEST(SurfaceFragments, AFragmentBrokenAgainKeepsItsFirstFractureFace) {
+    const Fixture& f = fixture();
+    const LevelSet object = level_set_from_mesh(f.input, kRf);
+    Fragments first = find_fragments(broken_object(object, CrackLevelSets{kRf, 3, {planar_disk_crack(kP1, kN1, 1.0, kRf)}}));
+    first.object = object;
+    ASSERT_EQ(first.fragments.size(), 2u);
+    const std::size_t lower = (first.fragments[0].centroid - kP1).dot(kN1) < 0 ? 0 : 1;
+    FragmentMesherOptions o;
+    o.kind = FragmentMesherKind::surface;
+    o.surface = &f.input;
+    LevelSet cell;
+    std::string warning;
+    const SurfaceMesh parent = FragmentMesher(first, o).mesh(lower, &warning, nullptr, &cell);
+    ASSERT_TRUE(warning.empty()) << warning;
+    ASSERT_FALSE(cell.empty());
+
+    const LevelSet& fragment = first.fragments[lower].grid;  // the broken piece's object, as in a scene
+    Fragments second =
+        find_fragments(broken_object(fragment, CrackLevelSets{kRf, 3, {planar_disk_crack(kP2, kN2, 1.0, kRf)}}));
+    second.object = fragment;
+    ASSERT_EQ(second.fragments.size(), 2u);
+    o.bound = &cell;
+    const FragmentMesher mesher(second, o);
+    double beyond = -1, off_planes = 0, volume = 0, new_crack = 0;
+    for (std::size_t i = 0; i < 2; ++i) {
+        const SurfaceMesh m = mesher.mesh(i, &warning);
+        ASSERT_TRUE(warning.empty()) << warning;
+        const MeshTopologyReport topo = check_topology(m, 0.0);
+        EXPECT_TRUE(topo.closed() && topo.manifold() && topo.consistently_oriented()) << topo.describe();
+        volume += signed_volume(m);
+        for (const Vec3& p : m.vertices) beyond = std::max(beyond, (p - kP1).dot(kN1));
+        const int inside = region_id(m, kInsideRegion);
+        for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+            if (m.region_of(t) != inside) continue;
+            const Vec3 c = triangle_centroid(m, t);
+            const double d1 = std::abs((c - kP1).dot(kN1)), d2 = std::abs((c - kP2).dot(kN2));
+            off_planes = std::max(off_planes, std::min(d1, d2));
+            if (d2 < d1) new_crack += 0.5 * triangle_area(m, t);  // two sides
+        }
+    }
+    // The first break's fracture face is the dual-contoured bisector of crack 1's gap, off its plane
+    // by up to a quarter voxel (the parent mesh's own farthest vertex): no piece goes farther.
+    double parent_beyond = -1;
+    for (const Vec3& p : parent.vertices) parent_beyond = std::max(parent_beyond, (p - kP1).dot(kN1));
+    EXPECT_LT(parent_beyond, 0.3 * kRf);
+    EXPECT_LT(beyond, parent_beyond + 0.01 * kRf) << "a piece reaches " << beyond / kRf << " r_f past crack 1's plane, "
+                                                  << "its parent " << parent_beyond / kRf << " r_f";
+    EXPECT_LT(off_planes, kRf);
+    EXPECT_NEAR(volume, signed_volume(parent), 0.05 * kRf * new_crack);
+}
+
 TEST(SurfaceFragments, OpenInputIsRejectedWithTheWayOut) {
     SurfaceMesh open = fixture().input;
     open.triangles.pop_back();
