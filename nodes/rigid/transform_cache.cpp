@@ -81,15 +81,27 @@ void cells(std::ostream& os, const char* kind, const std::vector<long long>& con
 
 void write_rest(std::ostream& os, const Animation& a) {
     std::vector<double> xyz;
-    std::vector<long long> connectivity, piece;
+    std::vector<long long> connectivity, piece, inside;
+    std::vector<double> uv;
     std::vector<std::string> names;
+    bool any_uv = false;
+    for (const AnimationPiece& p : a.pieces) any_uv = any_uv || p.rest_mesh->has_uv();
     for (std::size_t i = 0; i < a.pieces.size(); ++i) {
         const SurfaceMesh& m = *a.pieces[i].rest_mesh;
         const auto base = static_cast<long long>(xyz.size() / 3);
+        int inside_id = -1;
+        for (int r = 0; r < static_cast<int>(m.region_names.size()); ++r)
+            if (m.region_names[static_cast<std::size_t>(r)] == "inside") inside_id = r;
         for (const Vec3& x : m.vertices) append(xyz, x);
-        for (const Tri& t : m.triangles) {
-            for (int v : t) connectivity.push_back(base + v);
+        for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+            for (int v : m.triangles[t]) connectivity.push_back(base + v);
             piece.push_back(static_cast<long long>(i));
+            inside.push_back(inside_id >= 0 && m.region_of(t) == inside_id ? 1 : 0);
+            if (any_uv)
+                for (int k = 0; k < 3; ++k) {
+                    const Vec2 w = m.has_uv() ? m.corner_uv[t][static_cast<std::size_t>(k)] : Vec2::Zero();
+                    uv.insert(uv.end(), {w.x(), w.y()});
+                }
         }
         names.push_back(a.pieces[i].name);
     }
@@ -101,6 +113,8 @@ void write_rest(std::ostream& os, const Animation& a) {
        << "NumberOfStrips=\"0\" NumberOfPolys=\"" << piece.size() << "\">\n"
        << "      <CellData Scalars=\"piece\">\n";
     int_array(os, "Int32", "piece", piece);
+    int_array(os, "Int32", "inside", inside);
+    if (any_uv) float64_array(os, "uv", 6, uv);
     os << "      </CellData>\n";
     points(os, xyz);
     cells(os, "Polys", connectivity, piece.size(), 3);

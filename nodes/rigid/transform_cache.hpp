@@ -7,7 +7,9 @@
 // locale-independent; each file written atomically):
 //  - <stem>_rest.vtp: every piece's rest mesh in its body frame (centre of mass at the origin,
 //    so the meshes overlap), triangles only. CellData Int32 "piece" (the piece index of each
-//    triangle); FieldData String "piece_names" (entry i is piece i's name).
+//    triangle), Int32 "inside" (1 for a fracture face: region "inside"), and, when some piece has
+//    texture coordinates, Float64 x 6 "uv" (u v of the triangle's three corners in order; zeros
+//    for a piece without); FieldData String "piece_names" (entry i is piece i's name).
 //  - <stem>_<ffff>.vtp for every frame f (4 digits, zero-padded; more digits past 9999): one
 //    point and one vertex cell per piece alive at f, in increasing piece index. Point = P, the
 //    centre of mass [m]. PointData: "name" (String, the piece name), "piece" (Int32 index),

@@ -19,6 +19,7 @@
 
 #include <tiny_gltf.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -132,7 +133,8 @@ Animation synthetic_animation() {
 }
 
 // The synthetic scene with each half's cut face (the face looking towards the other half) in the
-// region "inside", as a fracture run's fragments have their fracture faces.
+// region "inside", as a fracture run's fragments have their fracture faces, and texture
+// coordinates (affine in the position) on box.0.
 Animation fractured_animation() {
     Animation a = synthetic_animation();
     for (std::size_t i : {std::size_t(2), std::size_t(3)}) {
@@ -142,6 +144,15 @@ Animation fractured_animation() {
         m->region_names = {"outside", "inside"};
         for (std::size_t t = 0; t < m->num_triangles(); ++t)
             if (triangle_normal(*m, t).x() * towards > 0.99) m->region[t] = 1;
+        if (i == 2)  // texture coordinates on one half only, as from an artist's mesh beside a fallen-back piece
+            for (const Tri& t : m->triangles) {
+                std::array<Vec2, 3> w;
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3& x = m->vertices[std::size_t(t[std::size_t(k)])];
+                    w[std::size_t(k)] = Vec2(0.25 + 2 * x.x() - 0.5 * x.z(), 0.5 + 3 * x.y() + x.z());
+                }
+                m->corner_uv.push_back(w);
+            }
         a.pieces[i].rest_mesh = m;
     }
     return a;
@@ -194,6 +205,20 @@ void write_expectation(const Animation& a, const fs::path& path) {
         j.list(p.rest_mesh->vertices, [&](const Vec3& x) { j.vec3(x); });
         f << ",\"triangles\":";
         j.list(p.rest_mesh->triangles, [&](const Tri& t) { f << '[' << t[0] << ',' << t[1] << ',' << t[2] << ']'; });
+        const SurfaceMesh& m = *p.rest_mesh;
+        std::vector<std::size_t> tris(m.num_triangles());
+        for (std::size_t t = 0; t < tris.size(); ++t) tris[t] = t;
+        f << ",\"inside\":";
+        j.list(tris, [&](std::size_t t) { f << (m.region_name(m.region_of(t)) == "inside" ? 1 : 0); });
+        f << ",\"uv\":";
+        if (m.has_uv())
+            j.list(tris, [&](std::size_t t) {
+                const auto& w = m.corner_uv[t];
+                const double corners[6] = {w[0].x(), w[0].y(), w[1].x(), w[1].y(), w[2].x(), w[2].y()};
+                j.vec(corners, 6);
+            });
+        else
+            f << "null";
         f << '}';
     });
     f << ",\"frames\":";
@@ -479,7 +504,7 @@ TEST(AnimationTransformCache, VtkReadsEveryFrameExactly) {
     std::string python;
     ASSERT_TRUE(vtk_python(python));
     const fs::path d = test_dir();
-    const Animation a = synthetic_animation();
+    const Animation a = fractured_animation();  // fracture faces, and UVs on one piece
     write_transform_cache(a, d / "cache", "scene");
     write_expectation(a, d / "expected.json");
     for (int f = 0; f < kFrames; ++f) EXPECT_TRUE(fs::exists(d / "cache" / transform_cache_frame_name("scene", f)));

@@ -10,7 +10,7 @@ every double exactly, so the errors are 0 unless something is wrong):
     the frame's timestep, part 0 and the file STEM_<ffff>.vtp;
   - every frame's .vtp through vtkXMLPolyDataReader: one point and vertex cell per live piece,
     P = position, PointData name (string), piece, orient, pivot (0), v, w, and FieldData TimeValue;
-  - STEM_rest.vtp: the rest meshes of all pieces in order, CellData piece, FieldData piece_names;
+  - STEM_rest.vtp: the rest meshes of all pieces in order, CellData piece, inside and uv, FieldData piece_names;
   - with --houdini-doc: the Python SOP code of that document (the ```python block that imports
     hou) run against a stand-in for Houdini's hou module, for both modes and every frame, must
     build the same points, attributes and named rest polygons.
@@ -152,19 +152,48 @@ def check_rest(path, pieces, cmp):
     cmp.equal("triangles", where, got, triangles)
     arr = out.GetCellData().GetArray("piece")
     cmp.equal("cell piece", where, [int(arr.GetValue(c)) for c in range(arr.GetNumberOfTuples())] if arr else None, cell_piece)
+    arr = out.GetCellData().GetArray("inside")
+    cmp.equal("cell inside", where, [int(arr.GetValue(c)) for c in range(arr.GetNumberOfTuples())] if arr else None,
+              [flag for p in pieces for flag in p["inside"]])
+    arr = out.GetCellData().GetArray("uv")
+    if any(p["uv"] is not None for p in pieces):
+        want = [x for p in pieces for w in (p["uv"] or [[0.0] * 6] * len(p["triangles"])) for x in w]
+        got = None if arr is None or arr.GetNumberOfComponents() != 6 else \
+            [arr.GetComponent(c, k) for c in range(arr.GetNumberOfTuples()) for k in range(6)]
+        cmp.values("cell uv", where, got or [], want)
+    else:
+        cmp.equal("cell uv (none)", where, arr is None, True)
 
 
 # ---- the Houdini Python SOP of docs/animation-output.md, against a stand-in for hou -----------
 
+class FakeVertex:
+    def __init__(self, geo, point):
+        self.geo, self.point, self.attribs = geo, point, {}
+
+    def setAttribValue(self, name, value):
+        if name not in self.geo.attribs["vertex"]:
+            raise KeyError(f"attribute {name!r} was not added to the vertices")
+        self.attribs[name] = tuple(float(c) for c in value)
+
+
 class FakeElement:
     def __init__(self, geo, kind):
-        self.geo, self.kind, self.attribs, self.vertices, self.position = geo, kind, {}, [], None
+        self.geo, self.kind, self.attribs, self.corners, self.position = geo, kind, {}, [], None
+
+    @property
+    def vertices_points(self):
+        return [v.point for v in self.corners]
 
     def setPosition(self, x):
         self.position = tuple(float(c) for c in x)
 
     def addVertex(self, point):
-        self.vertices.append(point)
+        self.corners.append(FakeVertex(self.geo, point))
+        return self.corners[-1]
+
+    def vertices(self):
+        return tuple(self.corners)
 
     def setAttribValue(self, name, value):
         if name not in self.geo.attribs[self.kind]:
@@ -172,9 +201,23 @@ class FakeElement:
         self.attribs[name] = value
 
 
+class FakeGroup:
+    def __init__(self):
+        self.prims = []
+
+    def add(self, prim):
+        self.prims.append(prim)
+
+
 class FakeGeometry:
     def __init__(self):
-        self.points, self.prims, self.attribs = [], [], {"point": {}, "prim": {}}
+        self.points, self.prims, self.attribs, self.groups = [], [], {"point": {}, "prim": {}, "vertex": {}}, {}
+
+    def createPrimGroup(self, name):
+        if name in self.groups:
+            raise ValueError(f"group {name!r} exists")
+        self.groups[name] = FakeGroup()
+        return self.groups[name]
 
     def addAttrib(self, kind, name, default):
         self.attribs[kind][name] = default
@@ -191,7 +234,7 @@ class FakeGeometry:
 def run_houdini_code(code, directory, stem, mode, frame):
     geo = FakeGeometry()
     hou = types.ModuleType("hou")
-    hou.attribType = types.SimpleNamespace(Point="point", Prim="prim")
+    hou.attribType = types.SimpleNamespace(Point="point", Prim="prim", Vertex="vertex")
     hou.pwd = lambda: types.SimpleNamespace(geometry=lambda: geo)
     hou.frame = lambda: float(frame)
     sys.modules["hou"] = hou
@@ -215,8 +258,16 @@ def check_houdini(doc, directory, stem, expected, cmp):
     rest = run_houdini_code(code, directory, stem, "rest", 1)
     want = [(pieces[i]["name"], [tuple(pieces[i]["rest"][v]) for v in reversed(t)])
             for i in range(len(pieces)) for t in pieces[i]["triangles"]]
-    got = [(p.attribs.get("name"), [v.position for v in p.vertices]) for p in rest.prims]
+    got = [(p.attribs.get("name"), [v.position for v in p.vertices_points]) for p in rest.prims]
     cmp.equal("Houdini rest polygons (name, clockwise points)", "rest", got, want)
+    inside = set(id(p) for p in rest.groups["inside"].prims) if "inside" in rest.groups else set()
+    cmp.equal("Houdini group inside", "rest", [int(id(p) in inside) for p in rest.prims],
+              [flag for p in pieces for flag in p["inside"]])
+    if any(p["uv"] is not None for p in pieces):  # per vertex, in Houdini's (reversed) corner order
+        want_uv = [x for p in pieces for w in (p["uv"] or [[0.0] * 6] * len(p["triangles"]))
+                   for k in (2, 1, 0) for x in (w[2 * k], w[2 * k + 1], 0.0)]
+        got_uv = [x for p in rest.prims for v in p.corners for x in v.attribs.get("uv", ())]
+        cmp.values("Houdini vertex uv", "rest", got_uv, want_uv)
     for f, frame in enumerate(expected["frames"]):
         geo = run_houdini_code(code, directory, stem, "points", 1 + f)
         where = f"Houdini frame {1 + f} (crackflow frame {f})"
