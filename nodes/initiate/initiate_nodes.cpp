@@ -28,6 +28,11 @@ graph::NodeType cracks_node() {
     t.output<propagate::FractureState>("state", "the state with the new cracks (fresh fronts, recorded hexagons)");
     t.param_int("max_cracks", 10, "largest number of stress-initiated cracks in the whole simulation (App. A item 21)")
         .at_least(0);
+    t.param_real("snap_distance", 0, "m",
+                 "with 'object': elements of the BEM surface up to this far outside the object have their hexagons "
+                 "placed below the object's surface instead (farther ones are skipped); 0: r_c / 4. A scene sets it "
+                 "from the body's BEM standoff")
+        .at_least(0);
     t.param_bool("branching", false,
                  "crack faces initiate too (branching; their stress from u_c +- [u]/2 costs one surface integral per "
                  "crack vertex)");
@@ -41,6 +46,7 @@ graph::NodeType cracks_node() {
         s.max_cracks = static_cast<int>(c.integer("max_cracks"));
         s.branching = c.boolean("branching");
         if (c.has("object")) s.object = &c.in<LevelSet>("object");
+        s.snap_distance = c.real("snap_distance");
         initiate::CrackInitiationReport r;
         try {
             r = initiate::initiate_cracks(state, c.in<bem::BemSolution>("solution"), strength, s);

@@ -26,12 +26,12 @@ namespace {
 // element (eq. of ch. 4.4) would start too close to the object's surface or outside it. With the
 // object's level set, each element's reference point moves along its normal onto the object's
 // surface, so hexagons start at the same depth below the material as on an exact surface. Elements
-// farther than r_c / 4 outside the object (a class (d) fragment's BEM mesh where a chip broke off)
+// farther than `snap` outside the object (a class (d) fragment's BEM mesh where a chip broke off)
 // stay where they are, and the inside test then skips their hexagons.
-void place_on_object_surface(std::vector<ElementStress>& elements, const LevelSet& object, double r_c) {
+void place_on_object_surface(std::vector<ElementStress>& elements, const LevelSet& object, double snap) {
     for (ElementStress& e : elements) {
-        const double phi = sample(object, e.centroid);
-        if (phi < 0.25 * r_c) e.centroid -= phi * e.normal;
+        const double d = distance_along(object, e.centroid, -e.normal);  // beyond the narrow band too
+        if (d < snap) e.centroid -= d * e.normal;
     }
 }
 
@@ -50,7 +50,9 @@ CrackInitiationReport initiate_cracks(propagate::FractureState& state, const bem
     std::vector<ElementStress> elements = surface_element_stresses(sol);
     std::vector<char> initiated = state.initiated;
     const std::size_t n_surface = elements.size();
-    if (settings.object) place_on_object_surface(elements, *settings.object, state.r_c);
+    if (settings.object)
+        place_on_object_surface(elements, *settings.object,
+                                settings.snap_distance > 0 ? settings.snap_distance : 0.25 * state.r_c);
 
     if (settings.branching && sol.cracks && sol.cracks->cracks.num_triangles() > 0) {
         const std::vector<Vec3> uc = bem::crack_average_displacement(sol);  // ch. 6.4

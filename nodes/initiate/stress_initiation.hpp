@@ -19,6 +19,10 @@ struct CrackInitiationSettings {
     // tell: a fragment that keeps its parent's BEM mesh (ch. 7.3, class (d)) is smaller than that
     // mesh where a chip broke off, and a hexagon there would start outside the material.
     const LevelSet* object = nullptr;
+    // [m] How far outside the object an element's point may lie and still be moved onto it; 0:
+    // r_c / 4. A scene sets it from its body's BEM standoff (a remesh offset and its chords can
+    // exceed r_c / 4; then nearly every hexagon was skipped as outside).
+    double snap_distance = 0;
 };
 
 struct CrackInitiationReport {

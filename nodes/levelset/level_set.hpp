@@ -63,6 +63,12 @@ GridDifference compare_grids(const LevelSet& a, const LevelSet& b, double tolera
 double level_set_volume(const LevelSet& ls);
 // Trilinear value [m] and gradient (central differences of the trilinear field) at a point.
 double sample(const LevelSet& ls, const Vec3& p);
+
+// How far p lies outside the zero set along `direction` (unit, pointing towards the inside) [m]:
+// the sampled value where it is within the narrow band (negative inside), else marched in steps of
+// the sampled value (clamped at the band's half-width outside it), so points beyond the band are
+// measured too. +infinity when max_steps steps do not reach the band (nothing that way).
+double distance_along(const LevelSet& ls, const Vec3& p, const Vec3& direction, int max_steps = 16);
 Vec3 sample_gradient(const LevelSet& ls, const Vec3& p);
 // sample() at many points (one accessor per task, in parallel); the values do not depend on the
 // thread count. Points outside the active band get the background value.

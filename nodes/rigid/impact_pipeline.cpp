@@ -5,6 +5,7 @@
 #include "nodes/bem/bem_types.hpp"
 #include "nodes/rigid/scene_state.hpp"
 
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
@@ -36,7 +37,8 @@ std::shared_ptr<const graph::Plan> load_impact_pipeline(const std::filesystem::p
     return plan;
 }
 
-graph::Plan impact_plan(const graph::Plan& plan, const FractureSettings& s, long long max_steps) {
+graph::Plan impact_plan(const graph::Plan& plan, const BreakableModel& model, long long max_steps) {
+    const FractureSettings& s = *model.settings;
     graph::Plan p = plan;
     for (graph::PlanNode& n : p.nodes) {
         if (n.is_loop()) {
@@ -44,6 +46,10 @@ graph::Plan impact_plan(const graph::Plan& plan, const FractureSettings& s, long
             continue;
         }
         if (n.type->name() == "fracture.start") n.params["r_c"] = s.r_c;
+        // Hexagons below the object's surface wherever the BEM surface stands off it by its remesh
+        // offset and chords (a little more: sampled at element centroids, not everywhere).
+        if (n.type->name() == "initiate.cracks")
+            n.params["snap_distance"] = std::max(0.25 * s.r_c, 1.25 * model.bem_standoff);
         if (n.type->name() == "assemble.sgbem") {
             bool has_previous = false;
             for (const graph::PlanInput& in : n.inputs) has_previous = has_previous || in.port == "previous";
@@ -86,7 +92,7 @@ FractureRunner pipeline_runner(const graph::RunOptions& options,
     base.cancel_flag = nullptr;
     return [base, pipeline_of](const ImpactRun& run) -> ImpactOutcome {
         const std::shared_ptr<const graph::Plan> file_plan = pipeline_of(run);
-        const graph::Plan plan = impact_plan(*file_plan, *run.model->settings, run.max_steps);
+        const graph::Plan plan = impact_plan(*file_plan, *run.model, run.max_steps);
         graph::RunOptions o = base;
         o.output_dir = base.output_dir / run.output_dir;
         if (!run.model->settings->fracture_pipeline.empty())

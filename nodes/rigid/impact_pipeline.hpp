@@ -25,8 +25,9 @@ constexpr const char* builtin_fracture_pipeline_name = "built-in impact/fracture
 std::shared_ptr<const graph::Plan> load_impact_pipeline(const std::filesystem::path& file,
                                                         const graph::NodeRegistry& registry);
 
-// The plan of one run: `plan` with the body's settings applied (see above).
-graph::Plan impact_plan(const graph::Plan& plan, const FractureSettings& settings, long long max_steps);
+// The plan of one run: `plan` with the body's settings applied (see above), and initiate.cracks'
+// snap_distance from the body's BEM standoff.
+graph::Plan impact_plan(const graph::Plan& plan, const BreakableModel& model, long long max_steps);
 
 // A runner that executes the pipeline file of each run's body (FractureSettings::fracture_pipeline
 // is not here: the file comes with the body, `pipeline_of`), writing into

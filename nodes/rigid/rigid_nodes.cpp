@@ -185,6 +185,7 @@ std::shared_ptr<const rigid::BreakableModel> breakable_model(graph::NodeContext&
     }
     c.count("bem_triangles", double(model.bem_mesh->num_triangles()));
     c.count("volume_m3", model.volume);
+    c.count("bem_standoff_m", model.bem_standoff);
     c.count("impulse_threshold_Ns", fs->impulse_threshold);
     c.count("force_threshold_N", fs->force_threshold);
     return std::make_shared<const rigid::BreakableModel>(std::move(model));

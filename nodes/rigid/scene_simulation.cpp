@@ -208,6 +208,18 @@ BreakableModel make_breakable_model(std::shared_ptr<const FractureSettings> sett
     m.object = std::move(object);
     m.bem_mesh = std::move(bem_mesh);
     m.curvature = triangle_mean_curvature(*m.bem_mesh);
+    // The standoff: 90 % of the elements lie within it (the rest: rays along the normal that cross a
+    // concave gap, ears or legs, before they meet the object).
+    std::vector<double> standoff;
+    for (std::size_t t = 0; t < m.bem_mesh->num_triangles(); ++t) {
+        const double d = distance_along(m.object, triangle_centroid(*m.bem_mesh, t), -triangle_normal(*m.bem_mesh, t));
+        standoff.push_back(std::isfinite(d) ? std::max(d, 0.0) : std::numeric_limits<double>::infinity());
+    }
+    if (!standoff.empty()) {
+        const auto at = standoff.begin() + static_cast<std::ptrdiff_t>((standoff.size() - 1) * 9 / 10);
+        std::nth_element(standoff.begin(), at, standoff.end());
+        if (std::isfinite(*at)) m.bem_standoff = *at;
+    }
     return m;
 }
 
@@ -424,6 +436,7 @@ struct SceneSimulation::Impl {
             bm.surface = model.surface;  // its fragments are clipped from the authored surface too ...
             bm.cell = out.cell;          // ... to cells within its own
             if (cls == PieceClass::large) {  // the parent's BEM mesh, so its operators and factor too (ch. 7.3 (d))
+                bm.bem_standoff = model.bem_standoff;  // measured on the parent: chips stand off farther
                 bm.surface_blocks = model.surface_blocks;
                 bm.surface_factor = model.surface_factor;
             }

@@ -64,6 +64,11 @@ struct BreakableModel {
     // whichever generation made them.
     LevelSet authored;
     std::shared_ptr<const SurfaceMesh> bem_mesh;
+    // [m] How far the BEM surface stands off the object: the largest distance of an element's
+    // centroid outside it, measured when the mesh was made (a class (d) fragment keeps its parent's
+    // mesh and this value; where a chip broke off, its mesh stands off farther, and no hexagon
+    // starts there). Initiation places hexagons below the object's surface within this distance.
+    double bem_standoff = 0;
     // The authored mesh (material frame) its fragments are drawn with: the surface mesher clips it
     // to each fragment's cell (its triangles outside, fracture faces in region "inside"). Null: the
     // fragments are drawn with their level-set meshes.

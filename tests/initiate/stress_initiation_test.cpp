@@ -202,6 +202,35 @@ TEST(InitiateCracks, HexagonsStartAtTheirDepthBelowTheObjectsSurface) {
     }
 }
 
+// A BEM surface standing off the object by more than r_c / 4 (a scene's remeshed body: offset and
+// chords): here the BEM cube (side 1) 0.07 outside the object (side 0.86), r_c / 4 = 0.05. By default
+// every element is too far out to be moved onto the object, and every hexagon is skipped as outside
+// (a shot bunny that no longer broke); with snap_distance above the standoff (a scene sets 1.25 x its
+// body's measured standoff) they start at their depth below the object's surface, as above.
+TEST(InitiateCracks, SnapDistanceCoversTheBemSurfacesStandoff) {
+    const SurfaceMesh cube = bem::bem_cube_mesh(4, L);
+    const auto sol = solve_uniaxial(cube, sigma);
+    BoxSpec inner;
+    inner.size = Vec3(0.86, 0.86, 0.86);  // every element's centroid (at most 0.417 off-centre) over a face of it
+    inner.subdivisions = 2;
+    const LevelSet object = level_set_from_mesh(make_box(inner), 0.01, 12);  // band 0.12: the standoff inside it
+    CrackInitiationSettings set;
+    set.max_cracks = 12;
+    set.object = &object;
+    propagate::FractureState by_default = fresh_state(cube), snapped = fresh_state(cube);
+    const CrackInitiationReport none = initiate_cracks(by_default, *sol, strength_field(0.5 * sigma, 2), set);
+    EXPECT_EQ(none.cracks_added, 0);
+    EXPECT_GT(none.skipped_outside, 0);
+    set.snap_distance = 1.25 * 0.07;
+    const CrackInitiationReport rep = initiate_cracks(snapped, *sol, strength_field(0.5 * sigma, 2), set);
+    ASSERT_GT(rep.cracks_added, 0);
+    EXPECT_EQ(rep.skipped_outside, 0);
+    for (int r = 0; r < snapped.num_cracks(); ++r) {
+        const double d = box_distance(snapped.cracks.vertices[region_vertices(snapped, r).front()], 0.43);
+        EXPECT_TRUE(std::abs(d + 0.05) < 2e-3 || std::abs(d + 0.0125) < 2e-3) << "crack " << r << " centre at " << d;
+    }
+}
+
 TEST(InitiateCracks, CompressionUsesTheCompressiveFactorAndTheMinimalPrincipalStress) {
     const SurfaceMesh cube = bem::bem_cube_mesh(4, L);
     const auto sol = solve_uniaxial(cube, -sigma);

@@ -599,3 +599,26 @@ TEST(Scene, FragmentsKeepTheBodysTrianglesAndTextureCoordinates) {
     EXPECT_GE(spanning, 2) << "too few fragments with outer faces on several sides of the box";
     EXPECT_GE(generations, 2) << "no fragment broke again";
 }
+
+// The shot bunny (thesis fig. 41) shatters. A guard against a silent regression: after the BEM
+// remesh of 2026-12-02 its BEM surface stood off the bunny by 5 r_f (median; r_c / 4 = 2.5 r_f at
+// --fast), every element's hexagon was skipped as outside the object, and the ball left it in one
+// piece for two days while the docs still said 69 runs. Now initiation places hexagons below the
+// object's surface within the body's measured standoff (report: rigid.body bem_standoff_m).
+TEST(Scene, TheShotBunnyBreaks) {
+    const fs::path out = cf::testing::temp_dir("bunny-shooting");
+    std::string log;
+    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + CRACKFLOW_SOURCE_DIR +
+                                   "/pipelines/bunny_shooting.yaml --fast --out " + out.string(),
+                               log);
+    ASSERT_EQ(rc, 0) << log;
+    const std::string report = read_file(out / "report.json");
+    auto number_after = [&](const std::string& key, const std::string& within) {
+        const std::size_t from = report.find(within);
+        const std::size_t at = from == std::string::npos ? from : report.find("\"" + key + "\":", from);
+        return at == std::string::npos ? -1.0 : std::stod(report.substr(at + key.size() + 3));
+    };
+    const double r_c = 0.01;  // the pipeline's fast value
+    EXPECT_GT(number_after("bem_standoff_m", "\"name\":\"bunny\""), 0.25 * r_c) << "the case no longer tests a standoff beyond r_c / 4";
+    EXPECT_GE(number_after("breaks", "\"scene\":{"), 3) << report.substr(report.find("\"scene\":{"), 400);
+}
