@@ -176,12 +176,16 @@ std::shared_ptr<const rigid::BreakableModel> breakable_model(graph::NodeContext&
                                                          : c.real("threshold_fraction") * m.tensile_strength * mean_area;
     model.settings = fs;
     if (fs->keep_surface) {
+        // A mesh the surface mesher cannot clip (one that intersects itself, e.g. overlapping parts
+        // of a scan) still fractures: its fragments are drawn with their level-set meshes.
         try {
-            const SurfaceClipper check(b.mesh);  // fail now, not at the first break
+            const SurfaceClipper check(b.mesh);
+            model.surface = std::make_shared<const SurfaceMesh>(b.mesh);
         } catch (const std::invalid_argument& e) {
-            c.fail("body '" + b.name + "', input 'mesh': " + e.what() + " (or set 'fragment_mesh' to levelset)");
+            std::cerr << "warning: rigid.body '" << b.name << "': its fragments are drawn with their level-set meshes, "
+                      << "not its own triangles: " << e.what() << " (set 'fragment_mesh' to levelset to silence this)\n";
+            c.count("surface_unclippable", 1);
         }
-        model.surface = std::make_shared<const SurfaceMesh>(b.mesh);
     }
     c.count("bem_triangles", double(model.bem_mesh->num_triangles()));
     c.count("volume_m3", model.volume);

@@ -622,3 +622,40 @@ TEST(Scene, TheShotBunnyBreaks) {
     EXPECT_GT(number_after("bem_standoff_m", "\"name\":\"bunny\""), 0.25 * r_c) << "the case no longer tests a standoff beyond r_c / 4";
     EXPECT_GE(number_after("breaks", "\"scene\":{"), 3) << report.substr(report.find("\"scene\":{"), 400);
 }
+
+// A breakable body whose mesh the surface mesher cannot clip (two overlapping boxes in one mesh:
+// closed, outward, intersecting itself) still runs: a warning names the body and the way to silence
+// it, and its fragments would be drawn with their level-set meshes.
+TEST(SceneInputs, AnUnclippableMeshFallsBackToLevelSetMeshesWithAWarning) {
+    const fs::path dir = cf::testing::temp_dir("scene-overlapping-boxes");
+    cf::BoxSpec a, b;
+    a.size = b.size = cf::Vec3(0.1, 0.1, 0.1);
+    b.centre = cf::Vec3(0.07, -0.07, 0.0);  // overlapping a along one edge, neither inside the other
+    cf::SurfaceMesh m = cf::make_box(a);
+    const cf::SurfaceMesh second = cf::make_box(b);
+    const int base = static_cast<int>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), second.vertices.begin(), second.vertices.end());
+    for (cf::Tri t : second.triangles) {
+        for (int& v : t) v += base;
+        m.triangles.push_back(t);
+        m.region.push_back(0);
+    }
+    cf::write_mesh_file(dir / "overlap.obj", m, cf::MeshFormat::Obj, false);
+    const std::string yaml =
+        "nodes:\n"
+        "  weak: {type: material.brittle, params: {E: 1.0e10, nu: 0.2, rho: 1500, tensile_strength: 5.0e4, "
+        "toughness: 2.0e3, compressive_factor: 10}}\n"
+        "  mesh: {type: import.mesh, params: {path: overlap.obj}}\n"
+        "  lump: {type: rigid.body, inputs: {mesh: mesh.mesh, material: weak.material}, params: {breakable: true, "
+        "r_f: 5.0e-3, bem_triangles: 150, position: [0, 0, 0.2]}}\n"
+        "  scene: {type: rigid.scene, inputs: {bodies: lump.bodies}}\n";
+    { std::ofstream(dir / "scene.yaml") << yaml; }
+    std::string log;
+    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + (dir / "scene.yaml").string() + " --out " +
+                                   (dir / "out").string(),
+                               log);
+    EXPECT_EQ(rc, 0) << log;
+    EXPECT_NE(log.find("warning: rigid.body 'lump'"), std::string::npos) << log;
+    EXPECT_NE(log.find("fragment_mesh"), std::string::npos) << log;
+    EXPECT_NE(log.find("intersects itself"), std::string::npos) << log;
+}
