@@ -489,9 +489,9 @@ struct SceneSimulation::Impl {
         SurfaceMesh material_mesh = level_set_to_mesh(f.grid, 0);
         tag_fracture_faces(material_mesh, model.authored.empty() ? model.object : model.authored,
                            kFractureFaceDepthVoxels * model.object.voxel_size);
-        // Drawn with the parent's surface clipped to the fragment (the motion below still comes
-        // from the level-set mesh, so keeping the surface changes no trajectory); where the clip
-        // fails, with the level-set mesh, which later generations then clip.
+        // Drawn with the authored surface clipped to the fragment's cell (the motion below still
+        // comes from the level-set mesh, so keeping the surface changes no trajectory); where the
+        // clip fails, with the level-set mesh (its own fragments still clip the authored surface).
         if (mesher) {
             SurfaceMesh clipped = mesher->mesh(index, &out.warning, &out.folded, &out.cell);
             // The mesher gives flat normals where the surface has none; drawn like its parent
@@ -647,8 +647,9 @@ struct SceneSimulation::Impl {
             o.bound = model.cell.empty() ? nullptr : &model.cell;
             try {
                 meshers[b] = std::make_unique<FragmentMesher>(*breaks.fragments_of_break[b], o);
-            } catch (const std::invalid_argument& e) {
-                // A level-set mesh drawn earlier that self-intersects: its fragments fall back.
+            } catch (const std::invalid_argument&) {
+                // The authored mesh passed this check when the body was made; should the mesher
+                // still refuse, the fragments are drawn with level-set meshes (warned below).
                 meshers[b].reset();
             }
         });
