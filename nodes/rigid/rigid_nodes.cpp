@@ -141,7 +141,6 @@ std::shared_ptr<rigid::FractureSettings> fracture_settings(graph::NodeContext& c
     fs->method = c.string("method");
     fs->switch_elements = c.integer("switch_elements");
     fs->min_fragment_fraction = c.real("min_fragment_fraction");
-    fs->keep_surface = c.string("fragment_mesh") == "surface";
     if (!c.string("fracture").empty()) fs->fracture_pipeline = resolve_pipeline(c, c.string("fracture"));
     if (!c.run_options().registry) c.fail("no node registry to load the fracture pipeline with");
     try {
@@ -175,12 +174,11 @@ std::shared_ptr<const rigid::BreakableModel> breakable_model(graph::NodeContext&
     fs->force_threshold = c.real("force_threshold") >= 0 ? c.real("force_threshold")
                                                          : c.real("threshold_fraction") * m.tensile_strength * mean_area;
     model.settings = fs;
-    if (fs->keep_surface) {
+    if (c.string("fragment_mesh") == "surface") {
         // A mesh the surface mesher cannot clip (one that intersects itself, e.g. overlapping parts
         // of a scan) still fractures: its fragments are drawn with their level-set meshes.
         try {
-            const SurfaceClipper check(b.mesh);
-            model.surface = std::make_shared<const SurfaceMesh>(b.mesh);
+            model.surface = std::make_shared<const SurfaceClipper>(b.mesh);  // prepared once for every break
         } catch (const std::invalid_argument& e) {
             std::cerr << "warning: rigid.body '" << b.name << "': its fragments are drawn with their level-set meshes, "
                       << "not its own triangles: " << e.what() << " (set 'fragment_mesh' to levelset to silence this)\n";
@@ -325,7 +323,7 @@ graph::NodeType frame_node() {
         c.count("fracture_runs", r.fracture_runs);
         c.count("breaks", r.breaks);
         c.count("new_pieces", r.new_pieces);
-        c.count("surface_fallbacks", r.surface_fallbacks);
+        c.count("surface_fallbacks", double(r.warnings.size()));
         c.count("surface_folded", r.surface_folded);
         for (const std::string& w : r.warnings) std::cerr << "warning: rigid.frame: " << w << '\n';
         c.count("rigid_seconds", r.rigid_seconds);

@@ -2,6 +2,7 @@
 
 #include "nodes/segment/fracture_faces.hpp"
 #include "nodes/segment/fragment_mesher.hpp"
+#include "nodes/segment/surface_fragments.hpp"
 
 #include "graph/diagnostics.hpp"
 #include "graph/node_context.hpp"
@@ -405,10 +406,7 @@ struct SceneSimulation::Impl {
         BodySpec spec;
         AnimationPiece anim;
         std::size_t carried = 0;  // incomplete-crack triangles it carries
-        // What it is drawn with (material frame) and the cell it was clipped to; null / empty when
-        // its parent has no surface to keep.
-        std::shared_ptr<const SurfaceMesh> surface;
-        LevelSet cell;
+        LevelSet cell;            // the cell its mesh was clipped to; empty when its parent keeps no surface
         std::string warning;      // the surface mesher fell back to the level-set mesh: why
         bool folded = false;      // drawn with folds in its fracture faces that could not be mended
     };
@@ -492,12 +490,13 @@ struct SceneSimulation::Impl {
         // Drawn with the authored surface clipped to the fragment's cell (the motion below still
         // comes from the level-set mesh, so keeping the surface changes no trajectory); where the
         // clip fails, with the level-set mesh (its own fragments still clip the authored surface).
+        SurfaceMesh drawn;
         if (mesher) {
-            SurfaceMesh clipped = mesher->mesh(index, &out.warning, &out.folded, &out.cell);
+            drawn = mesher->mesh(index, &out.warning, &out.folded, &out.cell);
             // The mesher gives flat normals where the surface has none; drawn like its parent
             // instead (normals by crease angle), so a piece does not change its shading as it breaks.
-            if (!model.surface->has_normals()) clipped.corner_normal.clear();
-            out.surface = std::make_shared<const SurfaceMesh>(out.warning.empty() ? std::move(clipped) : material_mesh);
+            if (!model.surface->input().has_normals()) drawn.corner_normal.clear();
+            if (!out.warning.empty()) drawn = material_mesh;
         }
         const FragmentBody fb = fragment_body(material_mesh, f.volume, model.settings->material.rho, material_to_world,
                                               RigidMotion{s.position, s.velocity, s.angular_velocity});
@@ -536,7 +535,7 @@ struct SceneSimulation::Impl {
         anim.volume = f.volume;
         anim.dynamic = true;
         anim.rest_mesh = std::make_shared<const SurfaceMesh>(
-            transformed(out.surface ? *out.surface : material_mesh, piece.material_to_body));
+            transformed(mesher ? drawn : material_mesh, piece.material_to_body));
         anim.first_frame = frame;
         return out;
     }
@@ -639,19 +638,13 @@ struct SceneSimulation::Impl {
             cancel.poll();
             const CancelScope scope(cancel);
             const BreakableModel& model = *pieces[static_cast<std::size_t>(breaks.broken[b].first)].breakable;
-            if (!model.surface || !model.settings->keep_surface) return;
+            if (!model.surface) return;
             FragmentMesherOptions o;
             o.kind = FragmentMesherKind::surface;
-            o.surface = model.surface.get();
+            o.clipper = model.surface;
             o.keep_folds = true;  // a mesh to draw: a fold in a fracture face beats losing the artist's surface
             o.bound = model.cell.empty() ? nullptr : &model.cell;
-            try {
-                meshers[b] = std::make_unique<FragmentMesher>(*breaks.fragments_of_break[b], o);
-            } catch (const std::invalid_argument&) {
-                // The authored mesh passed this check when the body was made; should the mesher
-                // still refuse, the fragments are drawn with level-set meshes (warned below).
-                meshers[b].reset();
-            }
+            meshers[b] = std::make_unique<FragmentMesher>(*breaks.fragments_of_break[b], o);
         });
         tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
             cancel.poll();
@@ -662,9 +655,6 @@ struct SceneSimulation::Impl {
             const auto index = static_cast<std::size_t>(jobs[k].fragment - all.fragments.data());
             prepared[k] = prepare_fragment(id, before[static_cast<std::size_t>(id)], *jobs[k].fragment, frame,
                                            breaks.state_of_break[b], meshers[b].get(), index);
-            const BreakableModel& model = *pieces[static_cast<std::size_t>(id)].breakable;
-            if (!meshers[b] && model.surface && model.settings->keep_surface)
-                prepared[k].warning = "its parent's surface could not be clipped";
         });
         for (std::size_t b = 0; b < breaks.broken.size(); ++b) {
             const int id = breaks.broken[b].first;
@@ -680,10 +670,8 @@ struct SceneSimulation::Impl {
             const std::string warning = std::move(prepared[k].warning);
             const bool folded = prepared[k].folded;
             add_fragment(std::move(prepared[k]));
-            if (!warning.empty()) {
-                report.surface_fallbacks += 1;
+            if (!warning.empty())
                 report.warnings.push_back(animation.back().name + " (drawn with its level-set mesh): " + warning);
-            }
             report.surface_folded += folded ? 1 : 0;
         }
     }

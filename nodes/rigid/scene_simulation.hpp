@@ -32,6 +32,10 @@
 #include <string>
 #include <vector>
 
+namespace cf {
+class SurfaceClipper;  // nodes/segment/surface_fragments.hpp
+}  // namespace cf
+
 namespace cf::rigid {
 
 // What a breakable body fractures with (rigid.body parameters). Shared by its fragments.
@@ -46,11 +50,6 @@ struct FractureSettings {
     double force_threshold = 0;        // ... or sum J / t_c >= this [N]
     double min_fragment_fraction = 1e-6;  // fragments below this fraction of the original volume are dropped
     double collision_mesh_factor = 5;  // non-convex collision meshes: this many times bem_triangles
-    // Fragments drawn with the body's own surface (its triangles outside, fracture faces in the
-    // region "inside": the surface mesher of export.fragments, issue 14), or with their level-set
-    // meshes (false). Their motion is the same either way: mass, inertia and collision shapes come
-    // from the level-set meshes.
-    bool keep_surface = true;
     std::filesystem::path fracture_pipeline;  // the pipeline a collision runs (absolute)
     ContactDurationLimits limits;
 };
@@ -69,10 +68,12 @@ struct BreakableModel {
     // mesh and this value; where a chip broke off, its mesh stands off farther, and no hexagon
     // starts there). Initiation places hexagons below the object's surface within this distance.
     double bem_standoff = 0;
-    // The authored mesh (material frame) its fragments are drawn with: the surface mesher clips it
-    // to each fragment's cell (its triangles outside, fracture faces in region "inside"). Null: the
-    // fragments are drawn with their level-set meshes.
-    std::shared_ptr<const SurfaceMesh> surface;
+    // The authored mesh (material frame) its fragments are drawn with, prepared once for the
+    // surface mesher (issue 14), which clips it to each fragment's cell: its triangles outside,
+    // fracture faces in region "inside". Null (rigid.body fragment_mesh: levelset, or a mesh that
+    // cannot be clipped): the fragments are drawn with their level-set meshes. Their motion is the
+    // same either way: mass, inertia and collision shapes come from the level-set meshes.
+    std::shared_ptr<const SurfaceClipper> surface;
     // A fragment's cell (FragmentCells: the region its mesh was clipped to, within its parent's
     // cell); its own fragments' cells stay within it, so every generation keeps the fracture
     // faces of the ones before. Empty for an authored body.
@@ -189,13 +190,12 @@ struct FractureRunRecord {
 
 struct FrameReport {
     int fracture_runs = 0, breaks = 0, new_pieces = 0;
-    // Fragments drawn with their level-set mesh although their parent keeps its surface (the
-    // surface mesher could not clip them; the warning names them).
-    int surface_fallbacks = 0;
+    // Per fragment drawn with its level-set mesh although its parent keeps its surface (the
+    // surface mesher could not clip it): which and why.
+    std::vector<std::string> warnings;
     // Fragments drawn with the authored surface but with folds in their fracture faces that could
     // not be mended (closed and manifold, a few fracture faces crossing).
     int surface_folded = 0;
-    std::vector<std::string> warnings;
     double rigid_seconds = 0, fracture_seconds = 0;
 };
 

@@ -17,10 +17,10 @@ FragmentMesherKind fragment_mesher_from_name(const std::string& name) {
 
 FragmentMesher::FragmentMesher(const Fragments& f, const FragmentMesherOptions& o) : f_(f), o_(o) {
     if (o.kind != FragmentMesherKind::surface) return;
-    if (!o.surface)
+    if (!o.surface && !o.clipper)
         throw std::invalid_argument("mesher 'surface' needs the input surface (connect the mesh the object's level set "
                                     "was made from), or set mesher: levelset");
-    clipper_ = std::make_unique<SurfaceClipper>(*o.surface);
+    clipper_ = o.clipper ? o.clipper : std::make_shared<const SurfaceClipper>(*o.surface);
     cells_ = std::make_unique<FragmentCells>(f, o.margin_voxels);
 }
 

@@ -22,7 +22,10 @@ enum class FragmentMesherKind { levelset, surface };
 struct FragmentMesherOptions {
     FragmentMesherKind kind = FragmentMesherKind::levelset;
     double adaptivity = 0;         // [0, 1]: the level-set meshes, and the cells of the surface mesher (its fracture faces)
-    const SurfaceMesh* surface = nullptr;  // the input surface; needed by kind surface
+    const SurfaceMesh* surface = nullptr;  // the input surface; needed by kind surface (or `clipper`)
+    // Kind surface: the input prepared once and reused (a scene's body breaking many times); null:
+    // prepared from `surface` here.
+    std::shared_ptr<const SurfaceClipper> clipper;
     double margin_voxels = 2;      // how far a cell reaches beyond its fragment [voxels], in [1, 8]
     // Kind surface: a fragment whose folded fracture faces cannot be mended keeps its folds (a mesh
     // to draw, SurfaceClipper::clip) instead of falling back to its level-set mesh.
@@ -48,7 +51,7 @@ private:
     const Fragments& f_;
     FragmentMesherOptions o_;
     std::unique_ptr<FragmentCells> cells_;
-    std::unique_ptr<SurfaceClipper> clipper_;
+    std::shared_ptr<const SurfaceClipper> clipper_;
 };
 
 FragmentMesherKind fragment_mesher_from_name(const std::string& name);  // "levelset" | "surface"

@@ -289,6 +289,7 @@ SurfaceClipper::SurfaceClipper(const SurfaceMesh& input) : impl_(std::make_uniqu
 
 SurfaceClipper::~SurfaceClipper() = default;
 
+const SurfaceMesh& SurfaceClipper::input() const { return impl_->input; }
 const InsideUvProjection& SurfaceClipper::projection() const { return impl_->projection; }
 int SurfaceClipper::inside_region() const { return impl_->inside; }
 

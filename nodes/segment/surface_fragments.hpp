@@ -43,6 +43,7 @@ public:
     // to clip again) and *folded is set; without it, that is a failure too.
     bool clip(const SurfaceMesh& cell, SurfaceMesh& out, std::string* problem, bool* folded = nullptr) const;
 
+    const SurfaceMesh& input() const;  // the surface it clips
     const InsideUvProjection& projection() const;
     int inside_region() const;  // the id of kInsideRegion in every clipped mesh
 

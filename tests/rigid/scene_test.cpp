@@ -55,6 +55,15 @@ int run_command(const std::string& cmd, std::string& output) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// Writes `yaml` to dir/scene.yaml and runs it with the crackflow binary into dir/out; returns the
+// exit code, the output in `log`.
+int run_pipeline_in(const fs::path& dir, const std::string& yaml, std::string& log) {
+    { std::ofstream(dir / "scene.yaml") << yaml; }
+    return run_command(std::string(CRACKFLOW_EXE) + " run " + (dir / "scene.yaml").string() + " --out " +
+                           (dir / "out").string(),
+                       log);
+}
+
 // Loads and runs a scene given as text; returns the error ("" on success).
 std::string run_scene_text(const std::string& yaml, const std::string& name) {
     std::vector<cf::graph::Diagnostic> diags;
@@ -442,11 +451,8 @@ fs::path run_dropped_box(const std::string& fragment_mesh) {
         "    body: {step: {type: rigid.frame, inputs: {scene: frames.scene}}}\n"
         "    next: {scene: step.scene}\n"
         "  animation: {type: export.animation, inputs: {scene: frames.final.scene}}\n";
-    { std::ofstream(dir / "scene.yaml") << yaml; }
     std::string log;
-    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + (dir / "scene.yaml").string() + " --out " +
-                                   (dir / "out").string(),
-                               log);
+    const int rc = run_pipeline_in(dir, yaml, log);
     EXPECT_EQ(rc, 0) << log;
     EXPECT_EQ(log.find("level-set mesh"), std::string::npos) << "a fragment fell back:\n" << log;
     return dir / "out";
@@ -649,11 +655,8 @@ TEST(SceneInputs, AnUnclippableMeshFallsBackToLevelSetMeshesWithAWarning) {
         "  lump: {type: rigid.body, inputs: {mesh: mesh.mesh, material: weak.material}, params: {breakable: true, "
         "r_f: 5.0e-3, bem_triangles: 150, position: [0, 0, 0.2]}}\n"
         "  scene: {type: rigid.scene, inputs: {bodies: lump.bodies}}\n";
-    { std::ofstream(dir / "scene.yaml") << yaml; }
     std::string log;
-    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + (dir / "scene.yaml").string() + " --out " +
-                                   (dir / "out").string(),
-                               log);
+    const int rc = run_pipeline_in(dir, yaml, log);
     EXPECT_EQ(rc, 0) << log;
     EXPECT_NE(log.find("warning: rigid.body 'lump'"), std::string::npos) << log;
     EXPECT_NE(log.find("fragment_mesh"), std::string::npos) << log;
