@@ -20,12 +20,17 @@
 
 namespace cf {
 
+// How the nearest fragments of the contact zone are searched: per label, a min-plus filter over
+// whole leaf rows (the default), or per voxel over every ball offset (the original brute force,
+// kept as the tests' reference). Both give the same bits.
+enum class NearestSearch { per_label, per_voxel };
+
 class FragmentCells {
 public:
     // Labels the fragments' inside voxels and finds, for every voxel within margin + 2 voxels of
     // a place where two fragments meet, its nearest fragments (oneTBB over leaves; the same for any
     // thread count). margin_voxels in [1, 8]. Throws std::invalid_argument without f.object.
-    FragmentCells(const Fragments& f, double margin_voxels);
+    FragmentCells(const Fragments& f, double margin_voxels, NearestSearch search = NearestSearch::per_label);
     ~FragmentCells();
     FragmentCells(const FragmentCells&) = delete;
     FragmentCells& operator=(const FragmentCells&) = delete;

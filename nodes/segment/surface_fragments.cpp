@@ -122,23 +122,31 @@ bool canonical_order(const Mesh& m, const OriginMap& origin, Mesh& out) {
 // again with one more vertex ring, at most `rounds` times. Returns false, leaving `out` half
 // mended, when the rounds run out or only an input face could unpinch a hole: the caller then
 // repairs the cell and clips again. Linear in the result's size per round; no search of the
-// whole cell.
-bool mend_folded_fracture_faces(Mesh& out, OriginMap origin, int rounds) {
+// whole cell. `crossing`: the fracture faces' crossing pairs as they are (the caller's test found
+// them; round 0 does not search again).
+bool mend_folded_fracture_faces(Mesh& out, OriginMap origin, int rounds, std::vector<std::pair<Face, Face>> crossing) {
     using Vertex = Mesh::Vertex_index;
     using Halfedge = Mesh::Halfedge_index;
     for (int round = 0; round <= rounds; ++round) {
-        std::vector<Face> fracture;
-        for (Face f : out.faces())
-            if (origin[f] < 0) fracture.push_back(f);
         std::vector<std::pair<Face, Face>> pairs;
-        PMP::self_intersections(fracture, out, std::back_inserter(pairs));
+        if (round == 0) {
+            pairs = std::move(crossing);
+        } else {
+            std::vector<Face> fracture;
+            for (Face f : out.faces())
+                if (origin[f] < 0) fracture.push_back(f);
+            PMP::self_intersections(fracture, out, std::back_inserter(pairs));
+        }
         std::vector<char> marked(out.number_of_vertices() + out.number_of_removed_vertices(), 0);
         bool any = !pairs.empty();
         for (const auto& [a, b] : pairs)
             for (Face f : {a, b})
                 for (Vertex v : CGAL::vertices_around_face(out.halfedge(f), out)) marked[v.idx()] = 1;
         for (Halfedge h : out.halfedges())
-            if (out.is_border(h)) any = marked[out.target(h).idx()] = 1;  // a hole left open
+            if (out.is_border(h)) {  // a hole left open
+                marked[out.target(h).idx()] = 1;
+                any = true;
+            }
         if (!any) return true;
         if (round == rounds) return false;
         for (int r = 0; r < round; ++r) {
@@ -352,10 +360,14 @@ bool SurfaceClipper::clip(const SurfaceMesh& cell_in, SurfaceMesh& result, std::
         std::vector<Face> fracture;
         for (Face f : out.faces())
             if (origin[f] < 0) fracture.push_back(f);
-        if (PMP::does_self_intersect(fracture, out)) {
+        // All crossing pairs at once (no early exit as in does_self_intersect): a fold is mended
+        // from them, and without a fold the search visits every box either way.
+        std::vector<std::pair<Face, Face>> crossing;
+        PMP::self_intersections(fracture, out, std::back_inserter(crossing));
+        if (!crossing.empty()) {
             Mesh unmended;
             if (folded) unmended = out;
-            if (!mend_folded_fracture_faces(out, origin, kMendRounds)) {
+            if (!mend_folded_fracture_faces(out, origin, kMendRounds, std::move(crossing))) {
                 if (!folded) return fail("its fracture faces intersect each other");
                 out = std::move(unmended);
                 *folded = true;

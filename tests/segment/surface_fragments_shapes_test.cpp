@@ -182,10 +182,11 @@ TEST_P(SurfaceMesherOnShapes, ClosedManifoldPiecesThatKeepTheInput) {
         // (measured on the uncut object). For pieces under 1 % of the object (the bunny's cut-off
         // tips) the level set's own error on their thin parts dominates; they are checked with
         // their quadrant against the exact volume below.
-        if (v >= 0.01 * input_volume)
+        if (v >= 0.01 * input_volume) {
             EXPECT_LE(std::abs(v - f.fragments[i].volume), r * crack_area + outer_error)
-            << c.name << " fragment " << i << ": mesh " << v << " m^3, level set " << f.fragments[i].volume << " m^3, crack area "
-            << crack_area << " m^2";
+                << c.name << " fragment " << i << ": mesh " << v << " m^3, level set " << f.fragments[i].volume
+                << " m^3, crack area " << crack_area << " m^2";
+        }
         const Vec3 d = f.fragments[i].centroid - c.origin;
         const std::size_t q = std::size_t((c.n1.dot(d) >= 0 ? 0 : 2) + (c.n2.dot(d) >= 0 ? 0 : 1));
         quadrant_mesh[q] += v;
