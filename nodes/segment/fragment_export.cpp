@@ -6,9 +6,11 @@
 #include "nodes/segment/fragment_sheet.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
@@ -95,8 +97,22 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
         mo.adaptivity = opt.adaptivity;
         if (!opt.meshes) mo.kind = FragmentMesherKind::levelset;
         const FragmentMesher mesher(f, mo);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        // Largest fragment first, each free thread taking the next (greedy longest-first): with a
+        // split index range the two halves of a cut object (fragments 0 and 1, in volume order) can
+        // fall to one thread in turn while the other meshes the chips (edge_crack_mode3 with the
+        // surface mesher: export 3.3 -> 2.9 s). Every fragment writes its own file, so the order of
+        // the work does not show in the output.
+        std::vector<std::size_t> order(n);
+        for (std::size_t i = 0; i < n; ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            return f.fragments[a].active_voxels > f.fragments[b].active_voxels;
+        });
+        std::atomic<std::size_t> next{0};
+        std::atomic<bool> failed{false};
+        const std::size_t workers = std::min<std::size_t>(n, std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
+        tbb::parallel_for(std::size_t(0), workers, [&](std::size_t) {
+            for (std::size_t k = next++; k < n && !failed; k = next++) try {
+                const std::size_t i = order[k];
                 cancel.poll();
                 SurfaceMesh m = mesher.mesh(i, &warnings[i]);
                 if (opt.preview) preview_meshes[i] = m;
@@ -108,6 +124,9 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
                 mesh_files[i] = dir / (opt.prefix + name + to_string(opt.format));
                 write_fragment_mesh(mesh_files[i], m, opt, i);
                 triangles[i] = m.num_triangles();
+            } catch (...) {
+                failed = true;
+                throw;
             }
         });
     } catch (...) {
