@@ -63,10 +63,11 @@ struct BreakableModel {
     // whichever generation made them.
     LevelSet authored;
     std::shared_ptr<const SurfaceMesh> bem_mesh;
-    // [m] How far the BEM surface stands off the object: the largest distance of an element's
-    // centroid outside it, measured when the mesh was made (a class (d) fragment keeps its parent's
-    // mesh and this value; where a chip broke off, its mesh stands off farther, and no hexagon
-    // starts there). Initiation places hexagons below the object's surface within this distance.
+    // [m] How far the BEM surface stands off the object: the 90th percentile of its elements'
+    // centroids' distances outside it along their inward normals, measured when the mesh was made
+    // (a class (d) fragment keeps its parent's mesh and this value; where a chip broke off, its mesh
+    // stands off farther, and no hexagon starts there). Initiation places hexagons below the
+    // object's surface within 1.25 times this distance (impact_plan).
     double bem_standoff = 0;
     // The authored mesh (material frame) its fragments are drawn with, prepared once for the
     // surface mesher (issue 14), which clips it to each fragment's cell: its triangles outside,

@@ -159,12 +159,12 @@ void copy_block(const openvdb::tree::ValueAccessor<const IntTree>& label_acc, co
                             const std::size_t at = std::size_t(((x - lo[0]) * B + (y - lo[1])) * B + (z - lo[2]));
                             lab[at] = l;
                             auto it = std::find_if(phi_leaf.begin(), phi_leaf.end(), [&](const auto& e) { return e.first == l; });
-                            if (it == phi_leaf.end()) {
+                            if (it == phi_leaf.end()) {  // a label new to this leaf, perhaps to the block
                                 phi_leaf.emplace_back(l, grid_of(phi[std::size_t(l)]).tree().probeConstLeaf(origin));
                                 it = phi_leaf.end() - 1;
+                                if (std::find(labels.begin(), labels.end(), l) == labels.end()) labels.push_back(l);
                             }
                             val[at] = it->second ? it->second->getValue(n) : grid_of(phi[std::size_t(l)]).tree().getValue(c);
-                            if (std::find(labels.begin(), labels.end(), l) == labels.end()) labels.push_back(l);
                         }
             }
     std::sort(labels.begin(), labels.end());
@@ -290,7 +290,7 @@ FragmentCells::FragmentCells(const Fragments& f, double margin_voxels, NearestSe
         cancel.poll();
         const int B = kDim + 2 * R;
         std::vector<int> lab(std::size_t(B * B * B));
-        std::vector<float> val(std::size_t(B * B * B)), of_label;
+        std::vector<float> val(std::size_t(B * B * B)), of_label(val.size());
         std::vector<int> labels;
         std::array<float, kLeafVoxels> d{};
         std::array<bool, kDim * kDim> row_active{};
@@ -322,7 +322,6 @@ FragmentCells::FragmentCells(const Fragments& f, double margin_voxels, NearestSe
             // (+inf elsewhere) over whole rows of the leaf; offering each label's minimum gives the
             // same kNearest as offering every term (Nearest keeps the least (d, label) pairs).
             for (const int k : labels) {
-                of_label.resize(val.size());
                 for (std::size_t at = 0; at < val.size(); ++at)
                     of_label[at] = lab[at] == k ? val[at] : std::numeric_limits<float>::infinity();
                 ball_min_rows(ball, of_label.data(), B, R, row_active.data(), d.data());

@@ -64,6 +64,13 @@ int run_pipeline_in(const fs::path& dir, const std::string& yaml, std::string& l
                        log);
 }
 
+// Runs a shipped pipeline (pipelines/<name>) at --fast into `out`; returns crackflow's exit code.
+int run_shipped_fast(const std::string& name, const fs::path& out, std::string& log) {
+    return run_command(std::string(CRACKFLOW_EXE) + " run " + CRACKFLOW_SOURCE_DIR + "/pipelines/" + name +
+                           " --fast --out " + out.string(),
+                       log);
+}
+
 // Loads and runs a scene given as text; returns the error ("" on success).
 std::string run_scene_text(const std::string& yaml, const std::string& name) {
     std::vector<cf::graph::Diagnostic> diags;
@@ -367,9 +374,7 @@ TEST(SceneInputs, ABemMeshOfAnotherShapeOrFrameIsRejected) {
 TEST(Scene, BreakingBarBreaksBetweenItsSupports) {
     const fs::path out = cf::testing::temp_dir("breaking-bar");
     std::string log;
-    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + CRACKFLOW_SOURCE_DIR +
-                                   "/pipelines/breaking_bar.yaml --fast --out " + out.string(),
-                               log);
+    const int rc = run_shipped_fast("breaking_bar.yaml", out, log);
     ASSERT_EQ(rc, 0) << log;
     std::istringstream runs(read_file(out / "fracture_runs.csv"));
     std::string header, first;
@@ -614,9 +619,7 @@ TEST(Scene, FragmentsKeepTheBodysTrianglesAndTextureCoordinates) {
 TEST(Scene, TheShotBunnyBreaks) {
     const fs::path out = cf::testing::temp_dir("bunny-shooting");
     std::string log;
-    const int rc = run_command(std::string(CRACKFLOW_EXE) + " run " + CRACKFLOW_SOURCE_DIR +
-                                   "/pipelines/bunny_shooting.yaml --fast --out " + out.string(),
-                               log);
+    const int rc = run_shipped_fast("bunny_shooting.yaml", out, log);
     ASSERT_EQ(rc, 0) << log;
     const std::string report = read_file(out / "report.json");
     auto number_after = [&](const std::string& key, const std::string& within) {

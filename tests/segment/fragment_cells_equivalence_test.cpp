@@ -9,13 +9,12 @@
 #include "nodes/levelset/level_set_grid.hpp"
 #include "nodes/segment/fragment_cells.hpp"
 #include "nodes/segment/fragments.hpp"
-#include "nodes/shape/icosphere.hpp"
 #include "tests/levelset/test_meshes.hpp"
+#include "tests/segment/cracked_sphere.hpp"
 #include "tests/segment/tree_difference.hpp"
 
 #include <gtest/gtest.h>
 
-#include <random>
 
 namespace cf {
 namespace {
@@ -56,20 +55,9 @@ TEST(FragmentCellsEquivalence, CubeCutIntoEighthsNearOneCorner) {
 TEST(FragmentCellsEquivalence, SphereWithRandomCracksAndSlivers) {
     // A sphere of radius 0.25 m at r_f = 1 cm: three random through cracks and three parallel
     // ones 2.5 r_f apart, whose slivers put several fragments into one leaf.
-    const double r_f = 0.01;
-    SphereSpec sphere;
-    sphere.radius = 0.25;
-    sphere.level = 4;
-    const LevelSet ball = level_set_from_mesh(make_icosphere(sphere), r_f);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<LevelSet> grids;
-    for (int c = 0; c < 3; ++c)
-        grids.push_back(planar_disk_crack(0.1 * Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), 1, r_f));
-    for (const double gap : {0.0, 2.5, 5.0})
-        grids.push_back(planar_disk_crack(Vec3(0.05, gap * r_f, 0), Vec3(0.05, 1, 0.02), 1, r_f));
-    Fragments f = find_fragments(broken_object(ball, CrackLevelSets{r_f, 3, grids}));
-    f.object = ball;
+    const testing::CrackedSphere s = testing::cracked_sphere(0.25, 0.01, 3, 0.1, 0.05, 5);
+    Fragments f = find_fragments(broken_object(s.sphere, s.cracks));
+    f.object = s.sphere;
     ASSERT_GE(f.fragments.size(), 8u);
     expect_same_cells(f);
 }

@@ -8,15 +8,14 @@
 #include "nodes/levelset/level_set.hpp"
 #include "nodes/levelset/level_set_grid.hpp"
 #include "nodes/segment/fragments.hpp"
-#include "nodes/shape/icosphere.hpp"
 #include "nodes/shape/torus.hpp"
 #include "tests/levelset/test_meshes.hpp"
+#include "tests/segment/cracked_sphere.hpp"
 #include "tests/segment/tree_difference.hpp"
 #include "tests/segment/voxel_segmentation.hpp"
 
 #include <gtest/gtest.h>
 
-#include <random>
 
 namespace cf {
 namespace {
@@ -71,20 +70,8 @@ TEST(SegmentationEquivalence, SphereCutByRandomCracksWithSlivers) {
     // A sphere of radius 0.4 m at r_f = 1 cm cut through by four random disk cracks and a bundle
     // of three parallel ones 2.5 r_f apart: slivers thinner than a leaf, so leaves hold several
     // pieces of different fragments and the d-ring of one fragment reaches into its neighbours.
-    const double r_f = 0.01;
-    SphereSpec sphere;
-    sphere.radius = 0.4;
-    sphere.level = 4;
-    const LevelSet ball = level_set_from_mesh(make_icosphere(sphere), r_f);
-    std::mt19937 rng(17);
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<LevelSet> grids;
-    for (int c = 0; c < 4; ++c)
-        grids.push_back(planar_disk_crack(0.2 * Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)),
-                                          1, r_f));
-    for (const double gap : {0.0, 2.5, 5.0})
-        grids.push_back(planar_disk_crack(Vec3(0.1, gap * r_f, 0), Vec3(0.05, 1, 0.02), 1, r_f));
-    const auto [with_tiles, without] = compare_all_options(broken_object(ball, CrackLevelSets{r_f, 3, grids}));
+    const testing::CrackedSphere s = testing::cracked_sphere(0.4, 0.01, 4, 0.2, 0.1, 17);
+    const auto [with_tiles, without] = compare_all_options(broken_object(s.sphere, s.cracks));
     EXPECT_GE(with_tiles, 8u);  // 4 random cracks through a sphere and the slivers of the bundle
     EXPECT_GE(without, with_tiles);
 }
