@@ -1,6 +1,7 @@
 #include "runtime/report.hpp"
 
 #include "graph/json_writer.hpp"
+#include "runtime/run_notes.hpp"
 #include "runtime/run_profile.hpp"
 
 #include <Eigen/Core>
@@ -115,6 +116,10 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
         }
         w.end_object();
     }
+    // What the counts suggest changing (crackflow run prints the same lines after the run).
+    w.key("notes").begin_array();
+    for (const std::string& n : run_notes(plan, result)) w.value(n);
+    w.end_array();
     // What bounded the wall time (crackflow run --profile prints it with the split per type).
     const RunProfile profile = run_profile(plan, result);
     w.key("critical_path_seconds").value(profile.critical_seconds);

@@ -9,6 +9,7 @@
 #include "nodes/register_all.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/report.hpp"
+#include "runtime/run_notes.hpp"
 #include "runtime/step_table.hpp"
 
 #include <tbb/global_control.h>
@@ -178,6 +179,7 @@ int run_command(const RunRequest& req) {
     }
     std::fputs(loop_step_tables(plan, result).c_str(), stderr);
     if (req.profile) std::fputs(profile_text(run_profile(plan, result)).c_str(), stderr);
+    for (const std::string& n : run_notes(plan, result)) std::fprintf(stderr, "note: %s\n", n.c_str());
     std::fprintf(stderr, "crackflow run: finished in %.2f s; outputs in %s (report: %s)\n", result.wall_seconds,
                  out.string().c_str(), report.string().c_str());
     return 0;

@@ -60,6 +60,7 @@ graph::NodeType cracks_node() {
         c.count("crack_face_candidates", r.crack_face_candidates);
         c.count("candidates_over_strength", r.selection.over_strength);
         c.count("skipped_near_front", r.selection.skipped_near_front);
+        c.count("over_budget", r.selection.over_budget);
         c.count("skipped_outside", r.skipped_outside);
         c.count("skipped_surface", r.skipped_surface);
         c.count("skipped_crack", r.skipped_crack);

@@ -71,10 +71,13 @@ std::vector<Initiation> select_initiations(const std::vector<ElementStress>& ele
 
     std::vector<Segment> fronts = front_segments;
     for (const Initiation& c : candidates) {
-        if (static_cast<int>(out.size()) >= budget) break;  // (d)
         cancel.poll();
         if (distance_to_fronts(elements[c.element].centroid, fronts) <= s.r_c) {  // (c)
             ++n.skipped_near_front;
+            continue;
+        }
+        if (static_cast<int>(out.size()) >= budget) {  // (d): counted, so a run can say what max_cracks held back
+            ++n.over_budget;
             continue;
         }
         if (admissible && !admissible(c)) {

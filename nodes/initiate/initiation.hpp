@@ -38,6 +38,9 @@ struct SelectionCounts {
     int over_strength = 0;       // not initiated before and (a) holds
     int skipped_near_front = 0;  // (c) failed
     int rejected = 0;            // passed (a)-(c) but the caller's `admissible` check refused it
+    // Passed (a)-(c) after the budget (d) was used up: where the stress still exceeds the strength
+    // away from every front but max_cracks holds new cracks back (not checked by `admissible`).
+    int over_budget = 0;
 };
 
 // Extra test a candidate must pass after (a)-(c) (e.g. its hexagon must not cut the surface);

@@ -48,11 +48,22 @@ TEST(SelectInitiations, LimitInitiatedFlagsAndFrontDistance) {
     s.r_c = 0.1;
     s.max_cracks = 3;
     s.existing_cracks = 1;  // (d): two more allowed
-    // Element 1 lies within r_c of element 0's new crack front: skipped (c).
-    auto out = select_initiations(els, strength(10e6, 2), {}, {}, s);
+    // Element 1 lies within r_c of element 0's new crack front: skipped (c); element 3, far from
+    // every front, is left over once the budget is spent (d) and counted so.
+    SelectionCounts n;
+    auto out = select_initiations(els, strength(10e6, 2), {}, {}, s, {}, &n);
     ASSERT_EQ(out.size(), 2u);
     EXPECT_EQ(out[0].element, 0);
     EXPECT_EQ(out[1].element, 2);
+    EXPECT_EQ(n.over_strength, 4);
+    EXPECT_EQ(n.skipped_near_front, 1);
+    EXPECT_EQ(n.over_budget, 1);
+    // A larger budget takes element 3 too: nothing is held back.
+    s.max_cracks = 4;
+    EXPECT_EQ(select_initiations(els, strength(10e6, 2), {}, {}, s, {}, &n).size(), 3u);
+    EXPECT_EQ(n.over_budget, 0);
+    EXPECT_EQ(n.skipped_near_front, 1);
+    s.max_cracks = 3;
     // (b): element 0 initiated before; an existing front near element 2 blocks it too.
     const std::vector<Segment> fronts = {{Vec3(1, 0.05, -1), Vec3(1, 0.05, 1)}};
     out = select_initiations(els, strength(10e6, 2), {1, 0, 0, 0}, fronts, s);
@@ -60,7 +71,8 @@ TEST(SelectInitiations, LimitInitiatedFlagsAndFrontDistance) {
     EXPECT_EQ(out[0].element, 1);
     EXPECT_EQ(out[1].element, 3);
     s.existing_cracks = 3;
-    EXPECT_TRUE(select_initiations(els, strength(10e6, 2), {}, {}, s).empty());
+    EXPECT_TRUE(select_initiations(els, strength(10e6, 2), {}, {}, s, {}, &n).empty());
+    EXPECT_EQ(n.over_budget, 4);  // no budget, no fronts: all four held back
     EXPECT_THROW(select_initiations(els, strength(10e6, 2), {1, 0}, {}, s), std::invalid_argument);
 }
 

@@ -101,6 +101,8 @@ TEST(InitiateCracks, UniaxialTensionStartsCracksNormalToTheLoad) {
     // Every element carries sigma_zz ~ sigma > strength (192 candidates); the limit (d) stops at 4.
     EXPECT_EQ(rep.selection.over_strength, 192);
     EXPECT_EQ(rep.cracks_added, 4);
+    EXPECT_GT(rep.selection.over_budget, 0);  // elements far from the 4 new fronts are held back by (d)
+    EXPECT_EQ(rep.selection.skipped_near_front + rep.selection.rejected + rep.cracks_added + rep.selection.over_budget, 192);
     EXPECT_EQ(s.num_cracks(), 4);
     EXPECT_EQ(s.cracks_initiated, 4);
     EXPECT_EQ(std::count(s.initiated.begin(), s.initiated.end(), 1), 4);
@@ -129,6 +131,7 @@ TEST(InitiateCracks, UniaxialTensionStartsCracksNormalToTheLoad) {
     EXPECT_GT(rest.selection.skipped_near_front, 0);
     EXPECT_GT(rest.cracks_added, 0);
     EXPECT_EQ(rest.selection.skipped_near_front + rest.selection.rejected + rest.cracks_added, 188);
+    EXPECT_EQ(rest.selection.over_budget, 0);
     // Rule (c) as it is applied, in the order cracks were added: each generating element was more
     // than r_c from every front there before it (a later hexagon may come nearer to it).
     const auto owner = crack_of_element(all, els);

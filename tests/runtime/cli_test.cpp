@@ -141,12 +141,39 @@ TEST(Cli, FractureReportSummaryAgreesWithTheNodes) {
     EXPECT_EQ(f["markers_stopped"]["crossed_crack"].as<double>(), crossed);
     EXPECT_EQ(f["markers_stopped"]["self_intersection"].as<double>(), self);
     EXPECT_GT(left, 0) << "the crack reaches the far faces";
+    EXPECT_EQ(summary["notes"].size(), 0u) << "initiation is off (max_cracks 0): nothing to note";
+    EXPECT_EQ(o.output.find("note:"), std::string::npos) << o.output;
     EXPECT_EQ(crossed, 0) << "a single crack crosses no other";
     for (const auto& [type, sec] : by_type) {
         EXPECT_NEAR(summary["stage_seconds"][type].as<double>(), sec, 1e-9 + 1e-12 * sec) << type;
         seconds += sec;
     }
     EXPECT_LE(seconds, 2 * report["wall_seconds"].as<double>() + 1.0);  // 2 threads at most
+}
+
+// A run whose max_cracks was reached with more of the surface over the strength says so, with the
+// node, the parameter's file and line and the count of its last BEM step, on stderr and in the report.
+TEST(Cli, ReachedCrackLimitIsNotedWithWhereItWasSet) {
+    auto dir = cf::testing::temp_dir("cli-crack-limit-note");
+    Outcome o = run_cli("run " + src("pipelines/default.yaml") + " --fast --out " + dir.string());
+    ASSERT_EQ(o.code, 0) << o.output;
+    YAML::Node report = YAML::LoadFile((dir / "report.json").string());
+    double held = -1, cracks = -1;
+    for (const auto& n : report["nodes"])
+        if (n["name"].as<std::string>() == "fracture/initiate") {
+            const YAML::Node last = n["iteration_counts"][n["iteration_counts"].size() - 1];
+            held = last["over_budget"].as<double>();
+            cracks = last["cracks_initiated"].as<double>();
+        }
+    EXPECT_EQ(cracks, 2) << "the default pipeline initiates max_cracks = 2 cracks";
+    ASSERT_GT(held, 0) << "the chain link stays over its strength away from the two cracks";
+    const YAML::Node notes = report["summary"]["notes"];
+    ASSERT_EQ(notes.size(), 1u);
+    const std::string note = notes[0].as<std::string>();
+    EXPECT_NE(note.find("'fracture/initiate'"), std::string::npos) << note;
+    EXPECT_NE(note.find("max_cracks = 2 (set at " + src("pipelines/default.yaml") + ":"), std::string::npos) << note;
+    EXPECT_NE(note.find(" " + std::to_string(static_cast<int>(held)) + " more surface elements"), std::string::npos) << note;
+    EXPECT_NE(o.output.find("note: " + note + "\n"), std::string::npos) << o.output;
 }
 
 namespace {
