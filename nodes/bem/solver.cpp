@@ -10,6 +10,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 namespace cf::bem {
 
 namespace {
@@ -149,7 +152,9 @@ Matrix coupling_c_times(const SurfaceSystem& sys, const CrackOperators& cr, cons
     const auto idxD = dofs3(sys.d_elements);
     const auto idxN = dofs3(sys.n_nodes);
     const Eigen::Index nd = static_cast<Eigen::Index>(idxD.size());
-    for (Eigen::Index c0 = 0; c0 < k; c0 += chunk) {
+    // Chunks of rows of the result, each on one task (the same products as one after the other).
+    tbb::parallel_for(Eigen::Index(0), (k + chunk - 1) / chunk, [&](Eigen::Index ci) {
+        const Eigen::Index c0 = ci * chunk;
         const Eigen::Index n = std::min(chunk, k - c0);
         const std::vector<Eigen::Index> cols(idxC.begin() + c0, idxC.begin() + c0 + n);
         if (sys.pure_neumann) {
@@ -167,7 +172,7 @@ Matrix coupling_c_times(const SurfaceSystem& sys, const CrackOperators& cr, cons
             }
             out.middleRows(c0, n) = part;
         }
-    }
+    });
     return out;
 }
 
@@ -330,8 +335,13 @@ void extend_schur_by(const SurfaceSystem& sys, const CrackOperators& cr, const C
     const CrackCoupling cn = coupling(sys, cr, fresh);
     const Matrix Zn = solve_matrix(sys, cn.B);
     const auto io = dofs3(old.dof_nodes), in = dofs3(fresh);
-    Matrix Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old.dof_nodes, Zn);
-    const Matrix Sno = y_block(cr, in, io) - cn.C * old.Z;
+    // C_n Z_o and the coupling of the old unknowns with Z_n are independent: one task each (they ran
+    // one after the other on one core). Each stays one Eigen product, so the result is bit for bit
+    // what it was: splitting a product into column chunks changes Eigen's blocking, and its last bits
+    // changed armadillo_splitting's fragments (29 instead of 32).
+    Matrix Son, Sno;
+    tbb::parallel_invoke([&] { Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old.dof_nodes, Zn); },
+                         [&] { Sno = y_block(cr, in, io) - cn.C * old.Z; });
     Son = 0.5 * (Son + Sno.transpose());
     Matrix Snn = y_block(cr, in, in) - cn.C * Zn;
     Snn = 0.5 * (Snn + Snn.transpose()).eval();

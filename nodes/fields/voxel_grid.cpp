@@ -60,7 +60,9 @@ Cell cell_at(const VoxelGridData& d, const Vec3& p) {
         i0[k] = static_cast<int>(f);
         c.t[k] = x[k] - f;
     }
-    auto acc = d.grid->getConstAccessor();
+    // Unregistered (no insertion into the tree's hash map per lookup: a field is sampled per
+    // marker per sub-step); the grid is immutable once built.
+    const openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> acc(d.grid->tree());
     for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
             for (int e = 0; e < 2; ++e) {
