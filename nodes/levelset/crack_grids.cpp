@@ -784,6 +784,11 @@ MarkerTest test_marker_in_boxes(const LevelSet* object, const std::vector<LevelS
 struct CrackRecorder::Impl {
     double r_f = 0, half_width = 3;
     std::vector<openvdb::FloatGrid::Ptr> grids;
+    // Per grid, a box [m] holding every voxel centre whose value may be negative (Phi_f < 0 lies
+    // within sqrt(3) r_f / 2 of a recorded triangle): the start grid's leaves and active tiles, then
+    // each recorded triangle's box widened by r_f. test (b) of fig. 27 skips a crack whose box lies
+    // farther than r_f from the marker's path (test_marker_in_boxes).
+    std::vector<Eigen::AlignedBox3d> boxes;
 };
 
 CrackRecorder::CrackRecorder(double r_f, double half_width) : impl_(std::make_unique<Impl>()) {
@@ -796,6 +801,12 @@ CrackRecorder::CrackRecorder(const CrackLevelSets& start) : CrackRecorder(start.
         if (std::abs(ls.voxel_size - start.voxel_size) > 1e-12 * start.voxel_size)
             throw std::invalid_argument("crack grids have different voxel sizes");
         impl_->grids.push_back(grid_of(ls).deepCopy());
+        Eigen::AlignedBox3d box;
+        openvdb::CoordBBox b;
+        if (impl_->grids.back()->tree().evalLeafBoundingBox(b))
+            box = Eigen::AlignedBox3d(Vec3(b.min().x(), b.min().y(), b.min().z()) * impl_->r_f,
+                                      Vec3(b.max().x(), b.max().y(), b.max().z()) * impl_->r_f);
+        impl_->boxes.push_back(box);
     }
 }
 CrackRecorder::~CrackRecorder() = default;
@@ -805,6 +816,7 @@ CrackRecorder& CrackRecorder::operator=(CrackRecorder&&) noexcept = default;
 int CrackRecorder::add_crack() {
     impl_->grids.push_back(new_crack_grid(impl_->r_f, impl_->half_width));
     impl_->grids.back()->setName("crack" + std::to_string(impl_->grids.size() - 1));
+    impl_->boxes.emplace_back();  // empty
     return int(impl_->grids.size()) - 1;
 }
 std::size_t CrackRecorder::num_cracks() const { return impl_->grids.size(); }
@@ -816,6 +828,13 @@ std::size_t CrackRecorder::add_triangles(int crack, const std::vector<Triangle3>
     for (const Triangle3& t : tris)
         for (const Vec3& p : t)
             if (!p.allFinite()) throw std::invalid_argument("crack triangle with a non-finite coordinate");
+    Eigen::AlignedBox3d& box = impl_->boxes[std::size_t(crack)];
+    const Vec3 widen = Vec3::Constant(impl_->r_f);
+    for (const Triangle3& t : tris)
+        for (const Vec3& p : t) {
+            box.extend(p - widen);
+            box.extend(p + widen);
+        }
     return rasterise_triangles(*impl_->grids[crack], tris, impl_->r_f, impl_->half_width);
 }
 
@@ -830,16 +849,9 @@ std::vector<std::vector<MarkerTest>> CrackRecorder::record_substep(const std::ve
     // Phase 1 (read-only): test against the grids up to the previous sub-step.
     std::vector<LevelSet> views;
     for (auto& g : impl_->grids) views.push_back(wrap_grid(g, impl_->r_f, impl_->half_width));
-    // Each grid's stored voxels (its leaves and active tiles: every voxel the rasteriser wrote)
-    // as a box of voxel centres [m]; an empty grid gets an empty box.
-    // (Only test (b) reads them, and it needs two cracks.)
-    std::vector<Eigen::AlignedBox3d> boxes(impl_->grids.size() > 1 ? impl_->grids.size() : 0);
-    for (std::size_t c = 0; c < boxes.size(); ++c) {
-        openvdb::CoordBBox b;
-        if (!impl_->grids[c]->tree().evalLeafBoundingBox(b)) continue;
-        boxes[c] = Eigen::AlignedBox3d(Vec3(b.min().x(), b.min().y(), b.min().z()) * impl_->r_f,
-                                       Vec3(b.max().x(), b.max().y(), b.max().z()) * impl_->r_f);
-    }
+    // (Only test (b) reads the boxes, and it needs two cracks.)
+    const std::vector<Eigen::AlignedBox3d> no_boxes;
+    const std::vector<Eigen::AlignedBox3d>& boxes = impl_->grids.size() > 1 ? impl_->boxes : no_boxes;
     std::vector<std::vector<MarkerTest>> tests(motions.size());
     tbb::parallel_for(std::size_t(0), motions.size(), [&](std::size_t c) {
         const FrontMotion& m = motions[c];

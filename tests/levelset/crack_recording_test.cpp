@@ -409,6 +409,50 @@ TEST(MarkerTest, RecordSubstepReportsWhichCaseHitAndStillRecords) {
     EXPECT_LT(sample(s.cracks[1], Vec3(0.1, 0.0, 0.0)), 0);  // crack 1 recorded its strip
 }
 
+// record_substep skips, in test (b), a crack whose recorded voxels lie farther than r_f from a
+// marker's path (a box per crack); that must decide exactly as test_marker on the grids does. Three
+// cracks (sheets at z = 0, x = 0.1 and y = 0.25, the last two also recorded in a recorder started
+// from the grids, whose boxes come from the grids' leaves), and 400 random short paths around their
+// edges, many ending just inside or just beyond a sheet's thickness.
+TEST(MarkerTest, CrackBoxesDecideAsTheGridsDo) {
+    CrackRecorder first(kRf);
+    for (int c = 0; c < 3; ++c) first.add_crack();
+    first.add_triangles(0, strip_triangles(advance(-0.2, 0.2)));
+    first.add_triangles(1, strip_triangles(FrontMotion{{Vec3(0.1, -0.3, -0.3), Vec3(0.1, 0.3, -0.3)},
+                                                         {Vec3(0.1, -0.3, -0.1), Vec3(0.1, 0.3, -0.1)}, false}));
+    CrackRecorder rec(first.snapshot());  // boxes from the grids' leaves
+    // Crack 2 recorded in this recorder (box from its triangles): y = 0.25, x in [0.3, 0.5].
+    rec.add_triangles(2, strip_triangles(FrontMotion{{Vec3(0.3, 0.25, -0.2), Vec3(0.3, 0.25, 0.2)},
+                                                       {Vec3(0.5, 0.25, -0.2), Vec3(0.5, 0.25, 0.2)}, false}));
+    std::uint64_t state = 12345;
+    auto uniform = [&](double lo, double hi) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return lo + (hi - lo) * double(state >> 11) / double(1ULL << 53);
+    };
+    // Crack 0's front does not move (one still marker); the paths are its markers' motions.
+    FrontMotion probes;
+    for (int i = 0; i < 400; ++i) {
+        const Vec3 p0(uniform(-0.3, 0.6), uniform(-0.4, 0.4), uniform(-0.35, 0.1));
+        const Vec3 d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+        probes.p0.push_back(p0);
+        probes.p1.push_back(p0 + uniform(0.2, 1.0) * kRf * d.normalized());
+    }
+    const CrackLevelSets grids = rec.snapshot();
+    int crossed = 0;
+    std::vector<MarkerTest> expected(probes.p0.size());
+    for (std::size_t i = 0; i < probes.p0.size(); ++i) {
+        expected[i] = test_marker(nullptr, grids.cracks, 0, probes.p0[i], probes.p1[i]);
+        crossed += expected[i].hit == MarkerHit::crossed_crack;
+    }
+    EXPECT_GT(crossed, 10) << "the paths must reach the other cracks";
+    const auto tests = rec.record_substep({probes, FrontMotion{}, FrontMotion{}}, nullptr);
+    for (std::size_t i = 0; i < probes.p0.size(); ++i) {
+        EXPECT_EQ(tests[0][i].hit, expected[i].hit) << "path " << i;
+        EXPECT_EQ(tests[0][i].other_crack, expected[i].other_crack) << "path " << i;
+        EXPECT_EQ(tests[0][i].alpha, expected[i].alpha) << "path " << i;
+    }
+}
+
 TEST(CrackGridErrors, PlanarCrackRejectsBadParameters) {
     EXPECT_THROW(planar_disk_crack(Vec3::Zero(), Vec3::UnitZ(), 0, kRf), std::invalid_argument);
     EXPECT_THROW(planar_disk_crack(Vec3::Zero(), Vec3::Zero(), 0.1, kRf), std::invalid_argument);
