@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -822,18 +823,21 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
             }
         }
     });
-    // HY by ranges of a's nodes (block rows); every task reads the whole (sorted) pair list.
+    // HY by ranges of a's nodes (block rows): each (pair, a's local node) listed once under its
+    // range, in pair order, so every block row is summed in the order above by one task.
     constexpr int kNodes = 128;
     const int crack_nodes = static_cast<int>(p1.cracks.num_vertices());
-    tbb::parallel_for(0, (crack_nodes + kNodes - 1) / kNodes, [&](int chunk) {
-        const int v0 = chunk * kNodes, v1 = v0 + kNodes;
-        for (const auto& kv : cache->pairs) {
+    std::vector<std::vector<std::pair<std::uint32_t, int>>> rows_of((crack_nodes + kNodes - 1) / kNodes);
+    for (std::size_t q = 0; q < cache->pairs.size(); ++q) {
+        const ElementGeometry& ga = gc[cache->pairs[q].first.second];
+        for (int al = 0; al < 3; ++al) rows_of[std::size_t(ga.nodes[al] / kNodes)].emplace_back(std::uint32_t(q), al);
+    }
+    tbb::parallel_for(std::size_t(0), rows_of.size(), [&](std::size_t chunk) {
+        for (const auto& [q, al] : rows_of[chunk]) {
+            const auto& kv = cache->pairs[q];
             const ElementGeometry& gb = gc[kv.first.first];
             const ElementGeometry& ga = gc[kv.first.second];
-            for (int al = 0; al < 3; ++al) {
-                if (ga.nodes[al] < v0 || ga.nodes[al] >= v1) continue;
-                for (int be = 0; be < 3; ++be) out->HY.block<3, 3>(3 * ga.nodes[al], 3 * gb.nodes[be]) += kv.second->D[al][be];
-            }
+            for (int be = 0; be < 3; ++be) out->HY.block<3, 3>(3 * ga.nodes[al], 3 * gb.nodes[be]) += kv.second->D[al][be];
         }
     });
     out->tip_pairs_computed = static_cast<std::int64_t>(fresh_columns.size() * surface.geometry.size() + fresh_pairs.size());
