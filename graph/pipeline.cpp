@@ -428,6 +428,7 @@ void Loader::plan_types_and_params() {
             std::map<std::string, ParamValue> params;
             read_params(*reg_.find(kLoopType), r, params);
             if (auto it = params.find(kMaxIterationsParam); it != params.end()) p.max_iterations = std::get<long long>(it->second);
+            for (const auto& prm : r.params) p.param_locs[prm.name] = prm.value_loc;  // run notes name them
             continue;
         }
         p.type = reg_.find(r.type);

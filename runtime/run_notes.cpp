@@ -7,11 +7,13 @@
 namespace cf::runtime {
 namespace {
 
-// "FILE:LINE (in a sub-pipeline used at ...)" for a parameter given in a file or by --set; "" for a default.
+// "set at FILE:LINE (in a sub-pipeline used at ...)" or "given by --set" for a parameter given in a
+// file or by an override; "" for a default.
 std::string where_set(const graph::PlanNode& n, const std::string& param) {
     const auto it = n.param_locs.find(param);
     if (it == n.param_locs.end() || it->second.file.empty()) return "";
-    std::string s = it->second.file;
+    if (it->second.file.rfind("--set", 0) == 0) return "given by --set";
+    std::string s = "set at " + it->second.file;
     if (it->second.line > 0) s += ":" + std::to_string(it->second.line);
     if (!it->second.via.empty()) s += ", in a sub-pipeline used at " + it->second.via;
     return s;
@@ -23,10 +25,33 @@ double last_count(const graph::NodeStats& s, const std::string& key) {
     return it == c.end() ? 0.0 : it->second;
 }
 
+// A loop stopped by max_iterations while its `while` still said go on.
+void note_cut_short_loop(const graph::Plan& plan, const graph::ExecutionResult& result, std::size_t i,
+                         std::vector<std::string>& notes) {
+    const graph::PlanNode& n = plan.nodes[i];
+    const graph::NodeStats& s = result.stats[i];
+    const auto it = s.counts.find("stopped_by_while");
+    if (!n.loop_while || it == s.counts.end() || it->second != 0 || s.runs < n.max_iterations) return;
+    std::string growth;
+    for (std::size_t j = 0; j < plan.nodes.size() && j < result.stats.size(); ++j) {
+        if (plan.nodes[j].body_of != int(i) || result.stats[j].type != "propagate.fronts" || result.stats[j].runs == 0) continue;
+        growth = " (in its last step '" + plan.nodes[j].name + "' added " +
+                 graph::format_number(last_count(result.stats[j], "elements_added")) + " crack elements and " +
+                 graph::format_number(last_count(result.stats[j], "active_markers")) + " front markers were still moving)";
+        break;
+    }
+    const std::string at = where_set(n, "max_iterations");
+    notes.push_back("loop '" + n.name + "' stopped after max_iterations = " + std::to_string(n.max_iterations) +
+                    (at.empty() ? " (the default)" : " (" + at + ")") + " with its while condition still true" +
+                    growth + ". Raise max_iterations to let it run on");
+}
+
 }  // namespace
 
 std::vector<std::string> run_notes(const graph::Plan& plan, const graph::ExecutionResult& result) {
     std::vector<std::string> notes;
+    for (std::size_t i = 0; i < plan.nodes.size() && i < result.stats.size(); ++i)
+        if (plan.nodes[i].is_loop() && result.stats[i].runs > 0) note_cut_short_loop(plan, result, i, notes);
     for (std::size_t i = 0; i < plan.nodes.size() && i < result.stats.size(); ++i) {
         const graph::PlanNode& n = plan.nodes[i];
         const graph::NodeStats& s = result.stats[i];
@@ -38,7 +63,7 @@ std::vector<std::string> run_notes(const graph::Plan& plan, const graph::Executi
         if (max_cracks <= 0 || held <= 0) continue;  // 0: initiation switched off on purpose
         const std::string at = where_set(n, "max_cracks");
         notes.push_back("initiate.cracks '" + n.name + "': max_cracks = " + std::to_string(max_cracks) +
-                        (at.empty() ? " (the default)" : " (set at " + at + ")") + " was reached; in the last BEM step " +
+                        (at.empty() ? " (the default)" : " (" + at + ")") + " was reached; in the last BEM step " +
                         graph::format_number(held) +
                         " more surface elements exceeded the strength more than r_c from every crack front. Raise "
                         "max_cracks if more cracks should start");

@@ -176,6 +176,44 @@ TEST(Cli, ReachedCrackLimitIsNotedWithWhereItWasSet) {
     EXPECT_NE(o.output.find("note: " + note + "\n"), std::string::npos) << o.output;
 }
 
+// A loop cut short by max_iterations while its while condition still held says so; one that its
+// condition ended does not. The fracture loop's note gives its last step's growth from the node.
+TEST(Cli, LoopStoppedByMaxIterationsIsNoted) {
+    auto dir = cf::testing::temp_dir("cli-loop-note");
+    Outcome ended = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --out " + (dir / "a").string());
+    ASSERT_EQ(ended.code, 0) << ended.output;
+    EXPECT_EQ(ended.output.find("note: loop"), std::string::npos) << ended.output;
+
+    Outcome cut = run_cli("run " + src("pipelines/loop_demo.yaml") + " --fast --set grow.max_iterations=3 --out " +
+                          (dir / "b").string());
+    ASSERT_EQ(cut.code, 0) << cut.output;
+    EXPECT_NE(cut.output.find("note: loop 'grow' stopped after max_iterations = 3 (given by --set) with its while "
+                              "condition still true. Raise max_iterations"),
+              std::string::npos)
+        << cut.output;
+
+    Outcome frac = run_cli("run " + src("pipelines/edge_crack_mode1.yaml") + " --fast --set fracture.max_iterations=2 --out " +
+                           (dir / "c").string());
+    ASSERT_EQ(frac.code, 0) << frac.output;
+    YAML::Node report = YAML::LoadFile((dir / "c" / "report.json").string());
+    double added = -1, moving = -1;
+    for (const auto& n : report["nodes"])
+        if (n["name"].as<std::string>() == "fracture/propagate") {
+            const YAML::Node last = n["iteration_counts"][n["iteration_counts"].size() - 1];
+            added = last["elements_added"].as<double>();
+            moving = last["active_markers"].as<double>();
+        }
+    ASSERT_GT(added + moving, 0) << "two steps do not bring the edge crack to rest";
+    const YAML::Node notes = report["summary"]["notes"];
+    ASSERT_EQ(notes.size(), 1u) << frac.output;
+    const std::string note = notes[0].as<std::string>();
+    EXPECT_NE(note.find("loop 'fracture/steps' stopped after max_iterations = 2"), std::string::npos) << note;
+    EXPECT_NE(note.find("'fracture/propagate' added " + std::to_string(int(added)) + " crack elements and " +
+                        std::to_string(int(moving)) + " front markers were still moving"),
+              std::string::npos)
+        << note;
+}
+
 namespace {
 // Starts a 30 s run, sends `sig` after 0.5 s and returns the exit status; the report is in `dir`.
 int cancel_run_with(int sig, const std::filesystem::path& dir) {
