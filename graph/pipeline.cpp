@@ -422,13 +422,13 @@ void Loader::plan_types_and_params() {
         p.name = r.name;
         p.loc = r.loc;
         p.body_of = r.body_of;
+        for (const auto& prm : r.params) p.param_locs[prm.name] = prm.value_loc;  // messages and run notes name them
         if (r.type == kLoopType) {
             // Declared in the registry like every node type (graph/loop_type.cpp); the plan keeps
             // max_iterations apart from params, where the executor and the scene runner read it.
             std::map<std::string, ParamValue> params;
             read_params(*reg_.find(kLoopType), r, params);
             if (auto it = params.find(kMaxIterationsParam); it != params.end()) p.max_iterations = std::get<long long>(it->second);
-            for (const auto& prm : r.params) p.param_locs[prm.name] = prm.value_loc;  // run notes name them
             continue;
         }
         p.type = reg_.find(r.type);
@@ -438,7 +438,6 @@ void Loader::plan_types_and_params() {
             continue;
         }
         read_params(*p.type, r, p.params);
-        for (const auto& prm : r.params) p.param_locs[prm.name] = prm.value_loc;
     }
 }
 

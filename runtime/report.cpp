@@ -1,7 +1,6 @@
 #include "runtime/report.hpp"
 
 #include "graph/json_writer.hpp"
-#include "runtime/run_notes.hpp"
 #include "runtime/run_profile.hpp"
 
 #include <Eigen/Core>
@@ -50,7 +49,8 @@ static double count_or(const std::map<std::string, double>& c, const std::string
 // pipelines, the figures of a thesis table row (BEM steps, elements at the first and last
 // assembly, cracks initiated, fragments) and the markers stopped by each test of fig. 27. Taken
 // from the nodes' own counts.
-static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const graph::ExecutionResult& result) {
+static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const graph::ExecutionResult& result,
+                          const std::vector<std::string>& notes) {
     std::map<std::string, double> stage_seconds;
     std::map<std::string, int> loops;
     int steps = 0;
@@ -116,9 +116,9 @@ static void write_summary(graph::JsonWriter& w, const graph::Plan& plan, const g
         }
         w.end_object();
     }
-    // What the counts suggest changing (crackflow run prints the same lines after the run).
+    // What the counts suggest changing (runtime/run_notes; crackflow run prints the same lines).
     w.key("notes").begin_array();
-    for (const std::string& n : run_notes(plan, result)) w.value(n);
+    for (const std::string& n : notes) w.value(n);
     w.end_array();
     // What bounded the wall time (crackflow run --profile prints it with the split per type).
     const RunProfile profile = run_profile(plan, result);
@@ -175,7 +175,7 @@ std::string report_json(const graph::Plan& plan, const graph::ExecutionResult& r
     w.key("openvdb").value(OPENVDB_LIBRARY_VERSION_STRING);
     w.end_object();
     w.key("wall_seconds").value(result.wall_seconds);
-    if (result.stats.size() == plan.nodes.size()) write_summary(w, plan, result);
+    if (result.stats.size() == plan.nodes.size()) write_summary(w, plan, result, ctx.notes);
     w.key("peak_rss_bytes").value(static_cast<long long>(u.ru_maxrss) * 1024);
     w.key("nodes").begin_array();
     for (std::size_t i = 0; i < plan.nodes.size(); ++i) {

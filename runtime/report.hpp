@@ -13,6 +13,7 @@ struct ReportContext {
     std::vector<std::string> overrides;  // --set texts
     bool fast = false;
     int threads = 0;
+    std::vector<std::string> notes;  // run_notes(), computed once by the caller (summary.notes)
 };
 
 std::string report_json(const graph::Plan& plan, const graph::ExecutionResult& result, const ReportContext& ctx);

@@ -167,6 +167,7 @@ int run_command(const RunRequest& req) {
     std::signal(SIGTERM, previous_term);
     progress.finish();
 
+    ctx.notes = run_notes(plan, result);
     if (!write_report(report, plan, result, ctx)) return 1;
     if (result.cancelled) {
         std::fprintf(stderr, "crackflow run: cancelled after %.2f s; partial report in %s\n", result.wall_seconds,
@@ -179,7 +180,7 @@ int run_command(const RunRequest& req) {
     }
     std::fputs(loop_step_tables(plan, result).c_str(), stderr);
     if (req.profile) std::fputs(profile_text(run_profile(plan, result)).c_str(), stderr);
-    for (const std::string& n : run_notes(plan, result)) std::fprintf(stderr, "note: %s\n", n.c_str());
+    for (const std::string& n : ctx.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
     std::fprintf(stderr, "crackflow run: finished in %.2f s; outputs in %s (report: %s)\n", result.wall_seconds,
                  out.string().c_str(), report.string().c_str());
     return 0;

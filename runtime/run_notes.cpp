@@ -19,19 +19,20 @@ std::string where_set(const graph::PlanNode& n, const std::string& param) {
     return s;
 }
 
+// A count of a node's last run (NodeStats::counts holds the last run's; 0 when not reported).
 double last_count(const graph::NodeStats& s, const std::string& key) {
-    const auto& c = s.iteration_counts.empty() ? s.counts : s.iteration_counts.back();
-    const auto it = c.find(key);
-    return it == c.end() ? 0.0 : it->second;
+    const auto it = s.counts.find(key);
+    return it == s.counts.end() ? 0.0 : it->second;
 }
 
-// A loop stopped by max_iterations while its `while` still said go on.
+// Loop i stopped by max_iterations while its `while` still said go on.
 void note_cut_short_loop(const graph::Plan& plan, const graph::ExecutionResult& result, std::size_t i,
                          std::vector<std::string>& notes) {
     const graph::PlanNode& n = plan.nodes[i];
     const graph::NodeStats& s = result.stats[i];
-    const auto it = s.counts.find("stopped_by_while");
-    if (!n.loop_while || it == s.counts.end() || it->second != 0 || s.runs < n.max_iterations) return;
+    if (!n.loop_while || !s.counts.count("stopped_by_while") || last_count(s, "stopped_by_while") != 0 ||
+        s.runs < n.max_iterations)
+        return;
     std::string growth;
     for (std::size_t j = 0; j < plan.nodes.size() && j < result.stats.size(); ++j) {
         if (plan.nodes[j].body_of != int(i) || result.stats[j].type != "propagate.fronts" || result.stats[j].runs == 0) continue;
@@ -46,27 +47,31 @@ void note_cut_short_loop(const graph::Plan& plan, const graph::ExecutionResult& 
                     growth + ". Raise max_iterations to let it run on");
 }
 
+// initiate.cracks node i reached max_cracks with candidates left over in its last run.
+void note_crack_limit(const graph::Plan& plan, const graph::ExecutionResult& result, std::size_t i,
+                      std::vector<std::string>& notes) {
+    const graph::PlanNode& n = plan.nodes[i];
+    const auto p = n.params.find("max_cracks");
+    if (p == n.params.end() || !std::holds_alternative<long long>(p->second)) return;
+    const long long max_cracks = std::get<long long>(p->second);
+    const double held = last_count(result.stats[i], "over_budget");
+    if (max_cracks <= 0 || held <= 0) return;  // 0: initiation switched off on purpose
+    const std::string at = where_set(n, "max_cracks");
+    notes.push_back("initiate.cracks '" + n.name + "': max_cracks = " + std::to_string(max_cracks) +
+                    (at.empty() ? " (the default)" : " (" + at + ")") + " was reached; in the last BEM step " +
+                    graph::format_number(held) +
+                    " more surface elements exceeded the strength more than r_c from every crack front. Raise "
+                    "max_cracks if more cracks should start");
+}
+
 }  // namespace
 
 std::vector<std::string> run_notes(const graph::Plan& plan, const graph::ExecutionResult& result) {
     std::vector<std::string> notes;
-    for (std::size_t i = 0; i < plan.nodes.size() && i < result.stats.size(); ++i)
-        if (plan.nodes[i].is_loop() && result.stats[i].runs > 0) note_cut_short_loop(plan, result, i, notes);
     for (std::size_t i = 0; i < plan.nodes.size() && i < result.stats.size(); ++i) {
-        const graph::PlanNode& n = plan.nodes[i];
-        const graph::NodeStats& s = result.stats[i];
-        if (n.is_loop() || s.runs == 0 || s.type != "initiate.cracks") continue;
-        const auto p = n.params.find("max_cracks");
-        if (p == n.params.end() || !std::holds_alternative<long long>(p->second)) continue;
-        const long long max_cracks = std::get<long long>(p->second);
-        const double held = last_count(s, "over_budget");
-        if (max_cracks <= 0 || held <= 0) continue;  // 0: initiation switched off on purpose
-        const std::string at = where_set(n, "max_cracks");
-        notes.push_back("initiate.cracks '" + n.name + "': max_cracks = " + std::to_string(max_cracks) +
-                        (at.empty() ? " (the default)" : " (" + at + ")") + " was reached; in the last BEM step " +
-                        graph::format_number(held) +
-                        " more surface elements exceeded the strength more than r_c from every crack front. Raise "
-                        "max_cracks if more cracks should start");
+        if (result.stats[i].runs == 0) continue;
+        if (plan.nodes[i].is_loop()) note_cut_short_loop(plan, result, i, notes);
+        else if (result.stats[i].type == "initiate.cracks") note_crack_limit(plan, result, i, notes);
     }
     return notes;
 }

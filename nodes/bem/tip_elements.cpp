@@ -805,24 +805,17 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     // In parallel over fixed row ranges (each entry is summed by one task in that same order, so
     // the blocks do not depend on the thread count): done one after the other, these adds were
     // 4 % of cube_compressive's run on one core while the other waited.
-    constexpr Eigen::Index kRows = 512;
-    const Eigen::Index wx_rows = std::max(out->W.rows(), out->X.rows());
-    tbb::parallel_for(Eigen::Index(0), (wx_rows + kRows - 1) / kRows, [&](Eigen::Index chunk) {
-        const Eigen::Index r0 = chunk * kRows;
-        for (const auto& kv : cache->columns) {
-            const ElementGeometry& gb = gc[kv.first];
-            for (int be = 0; be < 3; ++be) {
-                if (r0 < out->W.rows()) {
-                    const Eigen::Index n = std::min(kRows, out->W.rows() - r0);
-                    out->W.block(r0, 3 * gb.nodes[be], n, 3) += kv.second->W.block(r0, 3 * be, n, 3);
-                }
-                if (r0 < out->X.rows()) {
-                    const Eigen::Index n = std::min(kRows, out->X.rows() - r0);
-                    out->X.block(r0, 3 * gb.nodes[be], n, 3) += kv.second->X.block(r0, 3 * be, n, 3);
-                }
-            }
-        }
-    });
+    auto add_columns = [&](Matrix& dst, Matrix TipCache::Columns::*part) {
+        constexpr Eigen::Index kRows = 512;
+        tbb::parallel_for(Eigen::Index(0), (dst.rows() + kRows - 1) / kRows, [&](Eigen::Index chunk) {
+            const Eigen::Index r0 = chunk * kRows, n = std::min(kRows, dst.rows() - r0);
+            for (const auto& kv : cache->columns)
+                for (int be = 0; be < 3; ++be)
+                    dst.block(r0, 3 * gc[kv.first].nodes[be], n, 3) += ((*kv.second).*part).block(r0, 3 * be, n, 3);
+        });
+    };
+    add_columns(out->W, &TipCache::Columns::W);
+    add_columns(out->X, &TipCache::Columns::X);
     // HY by ranges of a's nodes (block rows): each (pair, a's local node) listed once under its
     // range, in pair order, so every block row is summed in the order above by one task.
     constexpr int kNodes = 128;

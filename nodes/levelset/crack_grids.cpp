@@ -696,22 +696,10 @@ std::vector<Triangle3> surface_closure_triangles(const FrontMotion& m, const Lev
 
 namespace {
 
-// test_marker with, per crack, a box [m] holding every voxel its grid stores (empty: not known).
-// Outside it a grid holds its positive background, and a trilinear sample reads voxels within r_f
-// of the point, so test (b) skips a crack whose box lies farther than r_f from the marker's path:
+// test_marker with, per crack, a box [m] holding every voxel whose value may be negative (none
+// given: no box). Elsewhere a grid's values are positive, and a trilinear sample reads voxels within
+// r_f of the point, so test (b) skips a crack whose box lies farther than r_f from the marker's path:
 // the same answer without sampling (with 16 cracks most are far from any one marker).
-MarkerTest test_marker_in_boxes(const LevelSet* object, const std::vector<LevelSet>& cracks,
-                                const std::vector<Eigen::AlignedBox3d>& boxes, int own, const Vec3& p0, const Vec3& p1);
-
-}  // namespace
-
-MarkerTest test_marker(const LevelSet* object, const std::vector<LevelSet>& cracks, int own, const Vec3& p0,
-                       const Vec3& p1) {
-    return test_marker_in_boxes(object, cracks, {}, own, p0, p1);
-}
-
-namespace {
-
 MarkerTest test_marker_in_boxes(const LevelSet* object, const std::vector<LevelSet>& cracks,
                                 const std::vector<Eigen::AlignedBox3d>& boxes, int own, const Vec3& p0, const Vec3& p1) {
     MarkerTest r;
@@ -781,6 +769,11 @@ MarkerTest test_marker_in_boxes(const LevelSet* object, const std::vector<LevelS
 
 }  // namespace
 
+MarkerTest test_marker(const LevelSet* object, const std::vector<LevelSet>& cracks, int own, const Vec3& p0,
+                       const Vec3& p1) {
+    return test_marker_in_boxes(object, cracks, {}, own, p0, p1);
+}
+
 struct CrackRecorder::Impl {
     double r_f = 0, half_width = 3;
     std::vector<openvdb::FloatGrid::Ptr> grids;
@@ -849,15 +842,12 @@ std::vector<std::vector<MarkerTest>> CrackRecorder::record_substep(const std::ve
     // Phase 1 (read-only): test against the grids up to the previous sub-step.
     std::vector<LevelSet> views;
     for (auto& g : impl_->grids) views.push_back(wrap_grid(g, impl_->r_f, impl_->half_width));
-    // (Only test (b) reads the boxes, and it needs two cracks.)
-    const std::vector<Eigen::AlignedBox3d> no_boxes;
-    const std::vector<Eigen::AlignedBox3d>& boxes = impl_->grids.size() > 1 ? impl_->boxes : no_boxes;
     std::vector<std::vector<MarkerTest>> tests(motions.size());
     tbb::parallel_for(std::size_t(0), motions.size(), [&](std::size_t c) {
         const FrontMotion& m = motions[c];
         tests[c].resize(m.p0.size());
         tbb::parallel_for(std::size_t(0), m.p0.size(), [&](std::size_t i) {
-            if (m.p0[i] != m.p1[i]) tests[c][i] = test_marker_in_boxes(object, views, boxes, int(c), m.p0[i], m.p1[i]);
+            if (m.p0[i] != m.p1[i]) tests[c][i] = test_marker_in_boxes(object, views, impl_->boxes, int(c), m.p0[i], m.p1[i]);
         });
     });
     views.clear();
