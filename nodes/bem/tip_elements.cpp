@@ -134,7 +134,7 @@ double general_rho(const TipElementKind& k, const std::array<double, 3>& l, std:
 
 // tip_point's body, inlined into the quadrature loops below (a call per point, with its 128-byte
 // result, cost as much as the point's kernel on touching pairs).
-inline TipPoint tip_point_inline(const ElementGeometry& g, const TipElementKind& k, double s, double t) {
+__attribute__((always_inline)) inline TipPoint tip_point_inline(const ElementGeometry& g, const TipElementKind& k, double s, double t) {
     TipPoint p;
     const std::array<double, 3> l = {1 - s - t, s, t};
     p.lambda = l;
@@ -204,18 +204,20 @@ void weights_at(const TipElementKind& k, const TipPoint& p, double* f) {
 
 // Weighted kernel sums over a pair rule: S1 = sum w f g / r, SR = sum w f g d d^T / r^3 (xx, yy, zz,
 // xy, xz, yz), SK[b] = sum w psi_b(y) (x - y).n_b / r^3 (a plain). Only [0, na) x [0, nb) is used.
+// S1 and SR of a weight pair are one row of eight (S1, the six SR, and a slot that stays zero), so
+// the point loops below add all seven with two four-wide operations; each entry still gets the same
+// products added in the same order as one by one.
+typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
 struct TipSums {
     int na = 1, nb = 1;
-    double S1[max_weights][max_weights];
-    double SR[max_weights][max_weights][6];
+    Lanes4 S[max_weights][max_weights][2];
     double SK[3] = {};
     TipSums(int na_, int nb_) : na(na_), nb(nb_) {
         for (int i = 0; i < na; ++i)
-            for (int j = 0; j < nb; ++j) {
-                S1[i][j] = 0;
-                for (double& v : SR[i][j]) v = 0;
-            }
+            for (int j = 0; j < nb; ++j) S[i][j][0] = S[i][j][1] = Lanes4{};
     }
+    double S1(int i, int j) const { return S[i][j][0][0]; }
+    const double* SR(int i, int j) const { return reinterpret_cast<const double*>(&S[i][j][0]) + 1; }
 };
 
 // Separated pairs (tip_triangle_rule on edge and vertex elements, measured against 14 x 14 graded
@@ -266,20 +268,19 @@ struct TipRules {
 };
 
 // One point pair: adds w fa_i fb_j k to the sums.
-inline void accumulate(const double* fa, const double* fb, double w, const Vec3& d, TipSums& out) {
+__attribute__((always_inline)) inline void accumulate(const double* fa, const double* fb, double w, const Vec3& d, TipSums& out) {
     const double r2 = d.squaredNorm();
     const double ri = 1.0 / std::sqrt(r2);
     const double r3 = ri * ri * ri;
-    const double k[7] = {ri, r3 * d.x() * d.x(), r3 * d.y() * d.y(), r3 * d.z() * d.z(),
-                         r3 * d.x() * d.y(), r3 * d.x() * d.z(), r3 * d.y() * d.z()};
+    const Lanes4 k0 = {ri, r3 * d.x() * d.x(), r3 * d.y() * d.y(), r3 * d.z() * d.z()};
+    const Lanes4 k1 = {r3 * d.x() * d.y(), r3 * d.x() * d.z(), r3 * d.y() * d.z(), 0.0};
     for (int i = 0; i < out.na; ++i) {
         const double wi = w * fa[i];
         if (wi == 0) continue;
         for (int j = 0; j < out.nb; ++j) {
             const double v = wi * fb[j];
-            out.S1[i][j] += v * k[0];
-            double* sr = out.SR[i][j];
-            for (int m = 0; m < 6; ++m) sr[m] += v * k[1 + m];
+            out.S[i][j][0] += v * k0;
+            out.S[i][j][1] += v * k1;
         }
     }
 }
@@ -288,8 +289,8 @@ void scale_sums(const ElementGeometry& a, const ElementGeometry& b, TipSums& out
     const double scale = 4 * a.area * b.area;
     for (int i = 0; i < out.na; ++i)
         for (int j = 0; j < out.nb; ++j) {
-            out.S1[i][j] *= scale;
-            for (double& v : out.SR[i][j]) v *= scale;
+            out.S[i][j][0] *= scale;
+            out.S[i][j][1] *= scale;
         }
     for (double& v : out.SK) v *= scale;
 }
@@ -329,7 +330,6 @@ void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa
 // four lanes at a time with GCC vector extensions (b's points padded with zero weights to a multiple of
 // four; the lanes are summed in a fixed order, so results do not depend on the thread count); a's
 // weights multiply the contracted sums.
-typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
 struct SidePoints {
     std::vector<double> x, y, z, w;
     std::vector<double> f;    // weight_count values per point (point-major)
@@ -424,7 +424,7 @@ void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, con
                                  r3 * (dx * nbx + dy * nby + dz * nbz)};
             for (int m = 0; m < 8; ++m) std::memcpy(k + m * Qp + q, &v[m], sizeof(Lanes4));
         }
-        double t[max_weights][7];
+        Lanes4 t[max_weights][2];
         for (int j = 0; j < nb; ++j) {
             const double* wf = &B.wf[j * Qp];
             Lanes4 acc[7] = {};
@@ -432,14 +432,15 @@ void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, con
                 const Lanes4 w = CF_LOAD4(wf + q);
                 for (int m = 0; m < 7; ++m) acc[m] += w * CF_LOAD4(k + m * Qp + q);
             }
-            for (int m = 0; m < 7; ++m) t[j][m] = sum4(&acc[m]);
+            t[j][0] = Lanes4{sum4(&acc[0]), sum4(&acc[1]), sum4(&acc[2]), sum4(&acc[3])};
+            t[j][1] = Lanes4{sum4(&acc[4]), sum4(&acc[5]), sum4(&acc[6]), 0.0};
         }
         for (int i = 0; i < na; ++i) {
             const double c = A.w[p] * A.f[p * na + i];
             if (c == 0) continue;
             for (int j = 0; j < nb; ++j) {
-                out.S1[i][j] += c * t[j][0];
-                for (int m = 0; m < 6; ++m) out.SR[i][j][m] += c * t[j][1 + m];
+                out.S[i][j][0] += c * t[j][0];
+                out.S[i][j][1] += c * t[j][1];
             }
         }
         if (want_k) {
@@ -547,14 +548,14 @@ void blocks_from_sums(const ElementGeometry& a, const TipElementKind& ka, const 
     // it is evaluated once per pair here (the same values as evaluating it in the loops below).
     Mat3 P[max_weights][max_weights];
     for (int i = 0; i < s.na; ++i)
-        for (int j = 0; j < s.nb; ++j) P[i][j] = kernel_p(s.S1[i][j], s.SR[i][j], c);
+        for (int j = 0; j < s.nb; ++j) P[i][j] = kernel_p(s.S1(i, j), s.SR(i, j), c);
     for (int al = 0; al < 3; ++al)
         for (int be = 0; be < 3; ++be) {
             Mat3 B = Mat3::Zero();
             for (int i = 0; i < ta[al].n; ++i)
                 for (int j = 0; j < tb[be].n; ++j) {
                     const int wi = ta[al].weight[i], wj = tb[be].weight[j];
-                    B += hyper_block(ta[al].v[i], tb[be].v[j], s.S1[wi][wj], P[wi][wj], c);
+                    B += hyper_block(ta[al].v[i], tb[be].v[j], s.S1(wi, wj), P[wi][wj], c);
                 }
             out.H[al][be] = B;
         }
@@ -592,14 +593,14 @@ double tip_pair_scalar(const ElementGeometry& a, const TipElementKind& ka, int f
     const TipRules rules(n);
     TipSums s(weight_count(ka), weight_count(kb));
     integrate_pair(a, ka, b, kb, same_mesh, rules, false, s);
-    return s.S1[fa][fb];
+    return s.S1(fa, fb);
 }
 
 double tip_separated_scalar(const ElementGeometry& a, const TipElementKind& ka, int fa, const TriangleRule& ra,
                             const ElementGeometry& b, const TipElementKind& kb, int fb, const TriangleRule& rb) {
     TipSums s(weight_count(ka), weight_count(kb));
     integrate_separated(a, ka, ra, b, kb, rb, false, s);
-    return s.S1[fa][fb];
+    return s.S1(fa, fb);
 }
 
 namespace {

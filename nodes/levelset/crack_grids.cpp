@@ -217,9 +217,12 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
     std::array<double, kLeafSize> best;
     std::array<std::uint32_t, kLeafSize> closest;
     best.fill(kUnvisited);
+    // The old leaf's values, read through one pointer: LeafNode::getValue checks per call whether
+    // the buffer is still to be loaded from a file (an out-of-line call in this loop).
+    const float* const old_values = old ? old->buffer().data() : nullptr;
     auto start_of = [&](int off) {  // only d^2 < reach^2 is in the band
         if (!old || !old->isValueOn(openvdb::Index(off))) return reach2;
-        const double d = double(old->getValue(openvdb::Index(off))) + thick;
+        const double d = double(old_values[off]) + thick;
         return d <= 0 ? 0.0 : std::min(reach2, d * d);
     };
     std::array<std::uint64_t, kLeafSize / 64> lowered{};  // bit per voxel: in out.list already
