@@ -713,6 +713,112 @@ std::vector<std::array<double, 3>> basis_integrals(const std::vector<ElementGeom
     return out;
 }
 
+// Which blocks of the step before can start this step's: every block is P1 plus the corrections
+// that touch it, added in a fixed order (element, then pair key), so a block where neither the P1
+// block nor the list of corrections touching it changed is bit for bit the previous step's, and only
+// the others need the P1 block copied and their corrections added again. A node's column (W, X, HY)
+// is rebuilt when the node is new, lies on a new element (its P1 column grew) or on an element whose
+// surface columns changed; a single HY block (i, j) when a crack pair touching it changed.
+class ChangedBlocks {
+public:
+    // Everything rebuilt (no usable step before).
+    explicit ChangedBlocks(std::size_t nodes) : column_(nodes, 1), nodes_(nodes) {}
+    ChangedBlocks(const CrackOperators& p1, const CrackOperators& previous, const TipCache& old, const TipCache& now)
+        : column_(p1.cracks.num_vertices(), 0), nodes_(p1.cracks.num_vertices()),
+          old_nodes_(previous.cracks.num_vertices()), pair_(nodes_ * old_nodes_ / 64 + 1, 0) {
+        const auto& gc = p1.geometry;
+        for (std::size_t n = old_nodes_; n < nodes_; ++n) column_[n] = 1;
+        for (std::size_t e = previous.geometry.size(); e < gc.size(); ++e)
+            for (int v : gc[e].nodes) column_[std::size_t(v)] = 1;
+        auto changed_element = [&](int b) {
+            for (int v : gc[std::size_t(b)].nodes) column_[std::size_t(v)] = 1;
+        };
+        for (const auto& [b, c] : now.columns) {
+            const auto it = old.columns.find(b);
+            if (it == old.columns.end() || it->second != c) changed_element(b);
+        }
+        for (const auto& [b, c] : old.columns)
+            if (!now.columns.count(b)) changed_element(b);
+        // Both pair lists are sorted by key: a pair stands when the same entry is under the same key.
+        auto mark_pair = [&](const std::pair<int, int>& key) {
+            const Tri& nb = gc[std::size_t(key.first)].nodes;
+            const Tri& na = gc[std::size_t(key.second)].nodes;
+            for (int i : na)
+                for (int j : nb) mark(std::size_t(i), std::size_t(j));
+        };
+        std::size_t q = 0;
+        for (const auto& [key, entry] : old.pairs) {
+            while (q < now.pairs.size() && now.pairs[q].first < key) {
+                mark_pair(now.pairs[q].first);  // a pair without a predecessor
+                ++q;
+            }
+            if (q < now.pairs.size() && now.pairs[q].first == key) {
+                if (now.pairs[q].second != entry) mark_pair(key);
+                ++q;
+            } else {
+                mark_pair(key);  // a pair gone
+            }
+        }
+        for (; q < now.pairs.size(); ++q) mark_pair(now.pairs[q].first);
+    }
+    bool column(std::size_t n) const { return column_[n] != 0; }
+    // HY block (i, j) (block row i, block column j).
+    bool block(std::size_t i, std::size_t j) const {
+        if (column_[j]) return true;
+        if (i >= old_nodes_) return true;
+        const std::size_t k = i * nodes_ + j;
+        return (pair_[k >> 6] >> (k & 63)) & 1;
+    }
+    std::size_t old_nodes() const { return old_nodes_; }
+
+private:
+    void mark(std::size_t i, std::size_t j) {
+        if (i >= old_nodes_ || column_[j]) return;
+        const std::size_t k = i * nodes_ + j;
+        pair_[k >> 6] |= std::uint64_t(1) << (k & 63);
+    }
+    std::vector<char> column_;
+    std::size_t nodes_ = 0, old_nodes_ = 0;
+    std::vector<std::uint64_t> pair_;
+};
+
+// Whether `previous` (square-root blocks of the step before, on the same surface) was built on the P1
+// blocks that `p1` extends: the same leading elements, no fewer nodes.
+bool extends(const CrackOperators& p1, const CrackOperators& previous) {
+    if (!previous.tip_elements || previous.geometry.size() > p1.geometry.size() ||
+        previous.cracks.num_vertices() > p1.cracks.num_vertices() || previous.W.rows() != p1.W.rows() ||
+        previous.X.rows() != p1.X.rows())
+        return false;
+    for (std::size_t e = 0; e < previous.geometry.size(); ++e)
+        if (previous.geometry[e].nodes != p1.geometry[e].nodes || previous.geometry[e].p != p1.geometry[e].p) return false;
+    return true;
+}
+
+// The dense blocks to start from: P1's where they changed, the step before's elsewhere (in parallel over
+// columns; each entry copied once).
+void start_blocks(const CrackOperators& p1, const CrackOperators* previous, const ChangedBlocks& changed, CrackOperators& out) {
+    const Eigen::Index nodes = static_cast<Eigen::Index>(p1.cracks.num_vertices());
+    out.W.resize(p1.W.rows(), p1.W.cols());
+    out.X.resize(p1.X.rows(), p1.X.cols());
+    out.HY.resize(p1.HY.rows(), p1.HY.cols());
+    const Eigen::Index old_rows = 3 * static_cast<Eigen::Index>(changed.old_nodes());
+    tbb::parallel_for(Eigen::Index(0), nodes, [&](Eigen::Index n) {
+        const Eigen::Index c = 3 * n;
+        if (!previous || changed.column(std::size_t(n))) {
+            out.W.middleCols<3>(c) = p1.W.middleCols<3>(c);
+            out.X.middleCols<3>(c) = p1.X.middleCols<3>(c);
+            out.HY.middleCols<3>(c) = p1.HY.middleCols<3>(c);
+            return;
+        }
+        out.W.middleCols<3>(c) = previous->W.middleCols<3>(c);
+        out.X.middleCols<3>(c) = previous->X.middleCols<3>(c);
+        out.HY.block(0, c, old_rows, 3) = previous->HY.block(0, c, old_rows, 3);
+        out.HY.block(old_rows, c, out.HY.rows() - old_rows, 3) = p1.HY.block(old_rows, c, out.HY.rows() - old_rows, 3);
+        for (std::size_t i = 0; i < changed.old_nodes(); ++i)
+            if (changed.block(i, std::size_t(n))) out.HY.block<3, 3>(3 * Eigen::Index(i), c) = p1.HY.block<3, 3>(3 * Eigen::Index(i), c);
+    });
+}
+
 }  // namespace
 
 std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1,
@@ -783,7 +889,12 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
         same->tip_pairs_reused = static_cast<std::int64_t>(touched.size() * surface.geometry.size() + cache->pairs.size());
         return same;
     }
-    auto out = std::make_shared<CrackOperators>(p1);
+    // P1's members without its dense blocks (start_blocks fills those).
+    auto out = std::make_shared<CrackOperators>();
+    out->cracks = p1.cracks;
+    out->geometry = p1.geometry;
+    out->pairs_computed = p1.pairs_computed;
+    out->pairs_computed_last = p1.pairs_computed_last;
     out->tip_elements = true;
     // Integrate the new ones in parallel, each into its own entry.
     std::vector<std::shared_ptr<const TipCache::Columns>> new_columns(fresh_columns.size());
@@ -802,7 +913,11 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
                       });
     for (std::size_t i = 0; i < fresh_columns.size(); ++i) cache->columns[fresh_columns[i]] = new_columns[i];
     for (std::size_t i = 0; i < fresh_pairs.size(); ++i) cache->pairs[fresh_pairs[i]].second = new_pairs[i];
-    // Add every correction in a fixed order (element, then pair key), whatever was integrated now.
+    const bool from_previous = old && extends(p1, *previous);
+    const ChangedBlocks changed = from_previous ? ChangedBlocks(p1, *previous, *old, *cache) : ChangedBlocks(p1.cracks.num_vertices());
+    start_blocks(p1, from_previous ? previous : nullptr, changed, *out);
+    // Add every correction in a fixed order (element, then pair key), whatever was integrated now, to
+    // the blocks rebuilt from P1 (the others hold the same sums from the step before).
     // In parallel over fixed row ranges (each entry is summed by one task in that same order, so
     // the blocks do not depend on the thread count): done one after the other, these adds were
     // 4 % of cube_compressive's run on one core while the other waited.
@@ -812,7 +927,8 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
             const Eigen::Index r0 = chunk * kRows, n = std::min(kRows, dst.rows() - r0);
             for (const auto& kv : cache->columns)
                 for (int be = 0; be < 3; ++be)
-                    dst.block(r0, 3 * gc[kv.first].nodes[be], n, 3) += ((*kv.second).*part).block(r0, 3 * be, n, 3);
+                    if (changed.column(std::size_t(gc[kv.first].nodes[be])))
+                        dst.block(r0, 3 * gc[kv.first].nodes[be], n, 3) += ((*kv.second).*part).block(r0, 3 * be, n, 3);
         });
     };
     add_columns(out->W, &TipCache::Columns::W);
@@ -831,7 +947,9 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
             const auto& kv = cache->pairs[q];
             const ElementGeometry& gb = gc[kv.first.first];
             const ElementGeometry& ga = gc[kv.first.second];
-            for (int be = 0; be < 3; ++be) out->HY.block<3, 3>(3 * ga.nodes[al], 3 * gb.nodes[be]) += kv.second->D[al][be];
+            for (int be = 0; be < 3; ++be)
+                if (changed.block(std::size_t(ga.nodes[al]), std::size_t(gb.nodes[be])))
+                    out->HY.block<3, 3>(3 * ga.nodes[al], 3 * gb.nodes[be]) += kv.second->D[al][be];
         }
     });
     out->tip_pairs_computed = static_cast<std::int64_t>(fresh_columns.size() * surface.geometry.size() + fresh_pairs.size());

@@ -166,6 +166,30 @@ TEST(BemCracks, SquareRootSchurKeepsTheNodesOfASheetThatStoodStill) {
     EXPECT_LT(diff, 1e-9 * ref);
 }
 
+// Square-root blocks built from the step before (its corrections kept where the front stood still, its
+// blocks kept where nothing changed) are bit for bit those integrated from scratch: the solver's Schur
+// reuse relies on it. Sheet A grows by a ring a step, sheet B stands; then a step adds nothing.
+TEST(BemCracks, SquareRootBlocksFromTheStepBeforeEqualFreshOnes) {
+    const auto [o, bc] = pulled_cube();
+    const SurfaceMesh a = bem_disk_mesh(5, 1.5, Vec3(-2.2, 0, 0)), b = bem_disk_mesh(3, 1.0, Vec3(2.2, 0.3, 0));
+    std::shared_ptr<const CrackOperators> p1, tip;
+    for (int rings : {3, 4, 5, 5}) {
+        const SurfaceMesh m = two_sheets(a, 3, rings, b);
+        p1 = append_crack_elements(*o, p1, m);
+        const auto before = tip;
+        tip = tip_crack_operators(*o, *p1, before.get());
+        const auto fresh = tip_crack_operators(*o, *p1, nullptr);
+        if (before) EXPECT_GT(tip->tip_pairs_reused, 0) << rings;
+        ASSERT_EQ(tip->W.cols(), fresh->W.cols());
+        ASSERT_EQ(tip->HY.rows(), fresh->HY.rows());
+        // Exact equality of every entry (cwiseEqual: no tolerance).
+        EXPECT_TRUE(tip->W.cwiseEqual(fresh->W).all()) << rings;
+        EXPECT_TRUE(tip->X.cwiseEqual(fresh->X).all()) << rings;
+        EXPECT_TRUE(tip->HY.cwiseEqual(fresh->HY).all()) << rings;
+        EXPECT_GT(fresh->HY.cwiseAbs().maxCoeff(), 0);
+    }
+}
+
 TEST(BemCracks, BadCrackInputsGiveClearErrors) {
     AssemblyOptions opt;
     opt.single_layer = false;
