@@ -179,7 +179,9 @@ TEST(BemCracks, SquareRootBlocksFromTheStepBeforeEqualFreshOnes) {
         const auto before = tip;
         tip = tip_crack_operators(*o, *p1, before.get());
         const auto fresh = tip_crack_operators(*o, *p1, nullptr);
-        if (before) EXPECT_GT(tip->tip_pairs_reused, 0) << rings;
+        if (before) {
+            EXPECT_GT(tip->tip_pairs_reused, 0) << rings;
+        }
         ASSERT_EQ(tip->W.cols(), fresh->W.cols());
         ASSERT_EQ(tip->HY.rows(), fresh->HY.rows());
         // Exact equality of every entry (cwiseEqual: no tolerance).
