@@ -855,6 +855,9 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     }
     std::vector<std::size_t> fresh_pairs;  // indices into cache->pairs, whose entries are filled below
     std::size_t cursor = 0;               // into old->pairs: keys come in the same (sorted) order
+    // When p1 extends the blocks of the step before, every element kept its place (the leading
+    // elements are checked equal), so a kept pair needs only its kinds compared.
+    const bool from_previous = old && extends(p1, *previous);
     for (int b : touched)
         for (std::size_t ai = 0; ai < gc.size(); ++ai) {
             const int a = static_cast<int>(ai);
@@ -865,8 +868,8 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
                 while (cursor < old->pairs.size() && old->pairs[cursor].first < key) ++cursor;
                 if (cursor < old->pairs.size() && old->pairs[cursor].first == key) {
                     const TipCache::Pair& q = *old->pairs[cursor].second;
-                    if (same_tip_kind(q.ka, basis.kind[a]) && same_tip_kind(q.kb, basis.kind[b]) && same_place(q.a_where, gc[a]) &&
-                        same_place(q.b_where, gc[b]))
+                    if (same_tip_kind(q.ka, basis.kind[a]) && same_tip_kind(q.kb, basis.kind[b]) &&
+                        (from_previous || (same_place(q.a_where, gc[a]) && same_place(q.b_where, gc[b]))))
                         kept = old->pairs[cursor].second;
                 }
             }
@@ -913,7 +916,6 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
                       });
     for (std::size_t i = 0; i < fresh_columns.size(); ++i) cache->columns[fresh_columns[i]] = new_columns[i];
     for (std::size_t i = 0; i < fresh_pairs.size(); ++i) cache->pairs[fresh_pairs[i]].second = new_pairs[i];
-    const bool from_previous = old && extends(p1, *previous);
     const ChangedBlocks changed = from_previous ? ChangedBlocks(p1, *previous, *old, *cache) : ChangedBlocks(p1.cracks.num_vertices());
     start_blocks(p1, from_previous ? previous : nullptr, changed, *out);
     // Add every correction in a fixed order (element, then pair key), whatever was integrated now, to
@@ -938,9 +940,16 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     constexpr int kNodes = 128;
     const int crack_nodes = static_cast<int>(p1.cracks.num_vertices());
     std::vector<std::vector<std::pair<std::uint32_t, int>>> rows_of((crack_nodes + kNodes - 1) / kNodes);
+    // Only (pair, node) whose blocks are rebuilt: late in a run nearly all are kept from the step before.
     for (std::size_t q = 0; q < cache->pairs.size(); ++q) {
         const ElementGeometry& ga = gc[cache->pairs[q].first.second];
-        for (int al = 0; al < 3; ++al) rows_of[std::size_t(ga.nodes[al] / kNodes)].emplace_back(std::uint32_t(q), al);
+        const ElementGeometry& gb = gc[cache->pairs[q].first.first];
+        for (int al = 0; al < 3; ++al) {
+            const std::size_t i = std::size_t(ga.nodes[al]);
+            if (changed.block(i, std::size_t(gb.nodes[0])) || changed.block(i, std::size_t(gb.nodes[1])) ||
+                changed.block(i, std::size_t(gb.nodes[2])))
+                rows_of[i / kNodes].emplace_back(std::uint32_t(q), al);
+        }
     }
     tbb::parallel_for(std::size_t(0), rows_of.size(), [&](std::size_t chunk) {
         for (const auto& [q, al] : rows_of[chunk]) {
