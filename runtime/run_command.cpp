@@ -149,7 +149,7 @@ int run_command(const RunRequest& req) {
     options.on_progress = [&](const std::string& node, double f) { progress.progress(node, f); };
     options.allow_absolute_paths = req.allow_absolute_paths;
     options.keep_outputs = false;  // the report needs the counts only; values are freed once consumed
-    ReportContext ctx{req.pipeline, req.overrides, req.fast, threads};
+    ReportContext ctx{req.pipeline, req.overrides, req.fast, threads, {}};  // notes: set after the run
     const auto report = out / "report.json";
     NodeTally tally(&progress);
     graph::ExecutionResult result;
