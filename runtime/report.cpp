@@ -1,6 +1,7 @@
 #include "runtime/report.hpp"
 
 #include "graph/json_writer.hpp"
+#include "runtime/heap_description.hpp"
 #include "runtime/run_profile.hpp"
 
 #include <Eigen/Core>
@@ -173,6 +174,7 @@ std::string report_json(const graph::Plan& plan, const graph::ExecutionResult& r
                          std::to_string(EIGEN_MINOR_VERSION));
     w.key("onetbb").value(TBB_VERSION_STRING);
     w.key("openvdb").value(OPENVDB_LIBRARY_VERSION_STRING);
+    w.key("allocator").value(heap_description());
     w.end_object();
     w.key("wall_seconds").value(result.wall_seconds);
     if (result.stats.size() == plan.nodes.size()) write_summary(w, plan, result, ctx.notes);

@@ -89,6 +89,15 @@ TEST(Cli, RunWritesReportWithPerNodeTimesCountsAndVersions) {
     EXPECT_EQ(report["status"].as<std::string>(), "ok");
     EXPECT_EQ(report["threads"].as<int>(), 2);
     EXPECT_EQ(report["versions"]["openvdb"].as<std::string>().substr(0, 3), "10.");
+    // The executable's heap as runtime/heap_config.cpp sets it (the speed of whole runs depends on
+    // it: docs/performance.md, "The heap"); the sanitizer builds keep their own allocator.
+    const std::string allocator = report["versions"]["allocator"].as<std::string>();
+#ifdef CRACKFLOW_JEMALLOC_BUILD
+    EXPECT_EQ(allocator.substr(0, 9), "jemalloc ") << allocator;
+    EXPECT_NE(allocator.find("(thp: always, dirty_decay_ms: -1)"), std::string::npos) << allocator;
+#else
+    EXPECT_EQ(allocator.find("jemalloc"), std::string::npos) << allocator;
+#endif
     int write_step_runs = -1, loop_iterations = -1;
     for (const auto& n : report["nodes"]) {
         EXPECT_TRUE(n["wall_seconds"].IsScalar());
