@@ -2,11 +2,17 @@
 
 #include <dlfcn.h>
 #include <gnu/libc-version.h>
+#include <sys/types.h>
 
 #include <cstddef>
-#include <cstdint>
 
 namespace cf::runtime {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+
+std::string heap_description() { return "the sanitizer's allocator"; }
+
+#else
 
 namespace {
 
@@ -21,7 +27,7 @@ std::string read_string(Mallctl ctl, const char* name) {
 }
 
 std::string read_ssize(Mallctl ctl, const char* name) {
-    std::intptr_t v = 0;  // ssize_t
+    ssize_t v = 0;
     std::size_t len = sizeof v;
     return ctl(name, &v, &len, nullptr, 0) == 0 ? std::to_string(v) : std::string("?");
 }
@@ -29,13 +35,12 @@ std::string read_ssize(Mallctl ctl, const char* name) {
 }  // namespace
 
 std::string heap_description() {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    return "the sanitizer's allocator";
-#endif
     auto ctl = reinterpret_cast<Mallctl>(dlsym(RTLD_DEFAULT, "mallctl"));
     if (!ctl) return std::string("glibc ") + gnu_get_libc_version() + " malloc";
     return "jemalloc " + read_string(ctl, "version") + " (thp: " + read_string(ctl, "opt.thp") +
            ", dirty_decay_ms: " + read_ssize(ctl, "opt.dirty_decay_ms") + ")";
 }
+
+#endif
 
 }  // namespace cf::runtime
