@@ -252,10 +252,41 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
         const int i0 = std::max(pr.lo_i[u], o[u]), i1 = std::min(pr.hi_i[u], o[u] + kLeafDim - 1);
         const int j0 = std::max(pr.lo_i[v], o[v]), j1 = std::min(pr.hi_i[v], o[v] + kLeafDim - 1);
         const double lo_a = pr.box_lo[axis], hi_a = pr.box_hi[axis];
+        bool all_slabs = true;
+        for (int t = 0; t < n_tri; ++t) all_slabs = all_slabs && rts[t].slab;
+        // The block's extent along `axis` [m], one voxel wider on each side.
+        const double block_lo = (o[axis] - 1) * r_f, block_hi = (o[axis] + kLeafDim) * r_f;
         for (int i = i0; i <= i1; ++i) {
             const double xu = xs[u][i - o[u]];
             const double du = max3(pr.box_lo[u] - xu, xu - pr.box_hi[u], 0.0);
-            for (int j = j0; j <= j1; ++j) {
+            int ja = j0, jb = j1;
+            if (all_slabs) {
+                // In this row each plane's axis coordinate c = base + cv x_v is linear in x_v, so
+                // its slab [c - half, c + half] meets the (widened) block for one interval of x_v
+                // only. Columns outside every triangle's interval are not walked: all their voxels
+                // lie farther than `half` (plus a voxel) from each plane along `axis`, so farther
+                // than the reach from each triangle; walking them would change nothing.
+                double lo_j = std::numeric_limits<double>::max(), hi_j = -lo_j;
+                for (int t = 0; t < n_tri; ++t) {
+                    const RasterTriangle& rt = rts[t];
+                    const double base = rt.c0 + rt.cu * xu;
+                    const double a = block_lo - rt.half - base, b = block_hi + rt.half - base;  // a <= cv x_v <= b
+                    if (rt.cv == 0) {
+                        if (a <= 0 && 0 <= b) lo_j = -(hi_j = std::numeric_limits<double>::max());
+                        continue;
+                    }
+                    const double p = a / rt.cv * inv, q = b / rt.cv * inv;  // the interval in voxel indices
+                    lo_j = std::min(lo_j, std::min(p, q));
+                    hi_j = std::max(hi_j, std::max(p, q));
+                }
+                // One column of margin on each side; clamped to the row before the conversion to
+                // int (a nearly level plane sends the bounds far away; no interval: lo_j > hi_j).
+                const double lo_c = std::min(std::max(lo_j, double(j0 - 1)), double(j1 + 1));
+                const double hi_c = std::min(std::max(hi_j, double(j0 - 1)), double(j1 + 1));
+                ja = std::max(j0, floor_int(lo_c) - 1);
+                jb = std::min(j1, ceil_int(hi_c) + 1);
+            }
+            for (int j = ja; j <= jb; ++j) {
                 const double xv = xs[v][j - o[v]];
                 const double dv = max3(pr.box_lo[v] - xv, xv - pr.box_hi[v], 0.0);
                 const double duv = du * du + dv * dv;  // joint box distance across the column
