@@ -259,18 +259,21 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
         for (int i = i0; i <= i1; ++i) {
             const double xu = xs[u][i - o[u]];
             const double du = max3(pr.box_lo[u] - xu, xu - pr.box_hi[u], 0.0);
+            // Each plane's axis coordinate in this row is c = base[t] + cv x_v [m] (evaluated in
+            // that order in the columns below too, so c is rounded as c0 + cu x_u + cv x_v).
+            double base[kMaxGroup];
+            for (int t = 0; t < n_tri; ++t) base[t] = rts[t].c0 + rts[t].cu * xu;
             int ja = j0, jb = j1;
             if (all_slabs) {
-                // In this row each plane's axis coordinate c = base + cv x_v is linear in x_v, so
-                // its slab [c - half, c + half] meets the (widened) block for one interval of x_v
-                // only. Columns outside every triangle's interval are not walked: all their voxels
-                // lie farther than `half` (plus a voxel) from each plane along `axis`, so farther
-                // than the reach from each triangle; walking them would change nothing.
+                // c is linear in x_v, so its slab [c - half, c + half] meets the (widened) block
+                // for one interval of x_v only. Columns outside every triangle's interval are not
+                // walked: all their voxels lie farther than `half` (plus a voxel) from each plane
+                // along `axis`, so farther than the reach from each triangle; walking them would
+                // change nothing.
                 double lo_j = std::numeric_limits<double>::max(), hi_j = -lo_j;
                 for (int t = 0; t < n_tri; ++t) {
                     const RasterTriangle& rt = rts[t];
-                    const double base = rt.c0 + rt.cu * xu;
-                    const double a = block_lo - rt.half - base, b = block_hi + rt.half - base;  // a <= cv x_v <= b
+                    const double a = block_lo - rt.half - base[t], b = block_hi + rt.half - base[t];  // a <= cv x_v <= b
                     if (rt.cv == 0) {
                         if (a <= 0 && 0 <= b) lo_j = -(hi_j = std::numeric_limits<double>::max());
                         continue;
@@ -303,7 +306,7 @@ void rasterise_block(BlockDistances& out, const std::vector<RasterTriangle>& tri
                             all = true;
                             break;
                         }
-                        const double c = rt.c0 + rt.cu * xu + rt.cv * xv;  // axis coordinate on the plane
+                        const double c = base[t] + rt.cv * xv;  // axis coordinate on the plane
                         s0 = std::min(s0, ceil_int((c - rt.half) * inv - kSlack));
                         s1 = std::max(s1, floor_int((c + rt.half) * inv + kSlack));
                     }
