@@ -39,6 +39,11 @@ LevelSet broken_object(const LevelSet& object, const CrackLevelSets& cracks);
 struct SegmentOptions {
     double threshold = -1;  // s [m] in [0, r_f]; negative means s = r_f (the thesis default)
     bool use_tiles = true;  // tile-aware search: keeps cracks deep inside the object
+    // [m^3]: a fragment whose volume lies below it is measured (volume, bbox, centroid, active
+    // voxels) but keeps no grid, for a caller that drops it next (drop_small_fragments with the
+    // same value). Its grid is freed as soon as it is measured: a run with a thousand specks
+    // otherwise holds a thousand grids' nodes at once (fresh memory, faulted in page by page).
+    double min_volume = 0;
 };
 
 // Throws std::invalid_argument when s is outside [0, r_f], with the reason.
@@ -49,6 +54,8 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options =
 // removed and adds their volume to *removed_volume if given. Throws std::invalid_argument for a
 // negative or non-finite min_volume.
 std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume = nullptr);
+// Throws drop_small_fragments' std::invalid_argument for a negative or non-finite min_volume.
+void check_min_volume(double min_volume);
 
 // A fragment's object for a later fracture run (ch. 7.3): segmentation cut every crack of the run
 // into the fragment as a thin slit; the cracks it keeps (incomplete, to grow again) must not read as

@@ -45,10 +45,12 @@ graph::NodeType fragments_node() {
                 c.has("cracks") ? broken_object(object, c.in<CrackLevelSets>("cracks")) : object;
             const double s = c.real("s");
             if (s < 0 && s != -1) c.fail("parameter 's': " + graph::format_number(s) + " m is negative; use -1 for s = r_f or a value in [0, r_f]");
-            f = find_fragments(broken, SegmentOptions{s, c.boolean("tiles")});
+            const double min_volume = c.real("min_volume");
+            check_min_volume(min_volume);  // before the segmentation, not after it
+            f = find_fragments(broken, SegmentOptions{s, c.boolean("tiles"), min_volume});
             f.object = object;
             double dropped_volume = 0;
-            c.count("dropped_fragments", double(drop_small_fragments(f, c.real("min_volume"), &dropped_volume)));
+            c.count("dropped_fragments", double(drop_small_fragments(f, min_volume, &dropped_volume)));
             c.count("dropped_volume_m3", dropped_volume);
         } catch (const std::invalid_argument& e) {
             c.fail(e.what());

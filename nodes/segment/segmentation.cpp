@@ -891,7 +891,8 @@ void order_fragments(Fragments& result) {
                                             b.bbox.min.data() + 3);
     });
     for (std::size_t i = 0; i < result.fragments.size(); ++i)
-        std::const_pointer_cast<LevelSetGrid>(result.fragments[i].grid.grid)->grid->setName("fragment" + std::to_string(i));
+        if (!result.fragments[i].grid.empty())  // a speck below SegmentOptions::min_volume has none
+            std::const_pointer_cast<LevelSetGrid>(result.fragments[i].grid.grid)->grid->setName("fragment" + std::to_string(i));
 }
 
 }  // namespace
@@ -962,7 +963,7 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options) 
         Fragment& f = result.fragments[k];
         f.active_voxels = grid->activeVoxelCount();
         measure_fragment(*grid, r_f, f, cancel);
-        f.grid = wrap_grid(grid, r_f, broken.half_width);
+        if (f.volume >= options.min_volume) f.grid = wrap_grid(grid, r_f, broken.half_width);
     });
     order_fragments(result);
     return result;

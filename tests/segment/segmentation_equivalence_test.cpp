@@ -76,6 +76,52 @@ TEST(SegmentationEquivalence, SphereCutByRandomCracksWithSlivers) {
     EXPECT_GE(without, with_tiles);
 }
 
+TEST(SegmentationEquivalence, SpecksBelowTheMinimumVolumeAreMeasuredWithoutKeepingTheirGrids) {
+    // SegmentOptions::min_volume frees a speck's grid as soon as it is measured (a run with a
+    // thousand specks held them all at once). Everything else must be as without it: the same
+    // fragments in the same order with the same measures, names and grids, and after
+    // drop_small_fragments the same survivors and the same dropped count and volume, to the bit.
+    const testing::CrackedSphere s = testing::cracked_sphere(0.4, 0.01, 4, 0.2, 0.1, 17);
+    const LevelSet broken = broken_object(s.sphere, s.cracks);
+    Fragments full = find_fragments(broken);
+    const std::size_t n = full.fragments.size();
+    ASSERT_GE(n, 4u);
+    // A threshold between two distinct volumes near the middle: fragments on both sides of it.
+    double min_volume = 0;
+    for (std::size_t k = n / 2; k + 1 < n && min_volume == 0; ++k)
+        if (full.fragments[k].volume > full.fragments[k + 1].volume)
+            min_volume = 0.5 * (full.fragments[k].volume + full.fragments[k + 1].volume);
+    ASSERT_GT(min_volume, 0);
+    SegmentOptions lean_options;
+    lean_options.min_volume = min_volume;
+    Fragments lean = find_fragments(broken, lean_options);
+    ASSERT_EQ(lean.fragments.size(), n);
+    std::size_t specks = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        SCOPED_TRACE("fragment " + std::to_string(i));
+        const Fragment &a = full.fragments[i], &b = lean.fragments[i];
+        EXPECT_EQ(a.volume, b.volume);
+        EXPECT_EQ(a.centroid, b.centroid);
+        EXPECT_EQ(a.bbox.min, b.bbox.min);
+        EXPECT_EQ(a.bbox.max, b.bbox.max);
+        EXPECT_EQ(a.active_voxels, b.active_voxels);
+        const bool speck = a.volume < min_volume;
+        specks += speck;
+        EXPECT_EQ(b.grid.empty(), speck);
+        if (!speck && !b.grid.empty()) {
+            EXPECT_EQ(grid_of(b.grid).getName(), grid_of(a.grid).getName());
+            EXPECT_EQ(testing::tree_difference(grid_of(a.grid), grid_of(b.grid)), "");
+        }
+    }
+    EXPECT_GE(specks, 1u);
+    EXPECT_LT(specks, n);
+    double removed_full = 0, removed_lean = 0;
+    EXPECT_EQ(drop_small_fragments(full, min_volume, &removed_full), specks);
+    EXPECT_EQ(drop_small_fragments(lean, min_volume, &removed_lean), specks);
+    EXPECT_EQ(removed_full, removed_lean);
+    expect_identical(full, lean);
+}
+
 TEST(SegmentationEquivalence, ThinTorusCutIntoArcs) {
     // A thin torus (tube radius 2.25 r_f, so few interior tiles and a curved band in every
     // leaf) cut by two cracks into two arcs.
