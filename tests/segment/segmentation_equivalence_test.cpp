@@ -20,16 +20,20 @@
 namespace cf {
 namespace {
 
+void expect_same_measures(const Fragment& a, const Fragment& b) {
+    EXPECT_EQ(a.volume, b.volume);
+    EXPECT_EQ(a.centroid, b.centroid);
+    EXPECT_EQ(a.bbox.min, b.bbox.min);
+    EXPECT_EQ(a.bbox.max, b.bbox.max);
+    EXPECT_EQ(a.active_voxels, b.active_voxels);
+}
+
 void expect_identical(const Fragments& expected, const Fragments& actual) {
     ASSERT_EQ(expected.fragments.size(), actual.fragments.size());
     for (std::size_t i = 0; i < expected.fragments.size(); ++i) {
         SCOPED_TRACE("fragment " + std::to_string(i));
         const Fragment &a = expected.fragments[i], &b = actual.fragments[i];
-        EXPECT_EQ(a.volume, b.volume);
-        EXPECT_EQ(a.centroid, b.centroid);
-        EXPECT_EQ(a.bbox.min, b.bbox.min);
-        EXPECT_EQ(a.bbox.max, b.bbox.max);
-        EXPECT_EQ(a.active_voxels, b.active_voxels);
+        expect_same_measures(a, b);
         EXPECT_EQ(testing::tree_difference(grid_of(a.grid), grid_of(b.grid)), "");
     }
 }
@@ -100,11 +104,7 @@ TEST(SegmentationEquivalence, SpecksBelowTheMinimumVolumeAreMeasuredWithoutKeepi
     for (std::size_t i = 0; i < n; ++i) {
         SCOPED_TRACE("fragment " + std::to_string(i));
         const Fragment &a = full.fragments[i], &b = lean.fragments[i];
-        EXPECT_EQ(a.volume, b.volume);
-        EXPECT_EQ(a.centroid, b.centroid);
-        EXPECT_EQ(a.bbox.min, b.bbox.min);
-        EXPECT_EQ(a.bbox.max, b.bbox.max);
-        EXPECT_EQ(a.active_voxels, b.active_voxels);
+        expect_same_measures(a, b);
         const bool speck = a.volume < min_volume;
         specks += speck;
         EXPECT_EQ(b.grid.empty(), speck);
