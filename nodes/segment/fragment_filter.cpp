@@ -9,14 +9,10 @@
 
 namespace cf {
 
-void check_min_volume(double min_volume) {
+std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume) {
     if (!(min_volume >= 0) || !std::isfinite(min_volume))
         throw std::invalid_argument("minimum fragment volume " + graph::format_number(min_volume) +
                                     " m^3 must be finite and >= 0 (0 keeps every fragment)");
-}
-
-std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume) {
-    check_min_volume(min_volume);
     std::size_t removed = 0;
     std::vector<Fragment> kept;
     kept.reserve(f.fragments.size());

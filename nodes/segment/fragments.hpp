@@ -54,8 +54,6 @@ Fragments find_fragments(const LevelSet& broken, const SegmentOptions& options =
 // removed and adds their volume to *removed_volume if given. Throws std::invalid_argument for a
 // negative or non-finite min_volume.
 std::size_t drop_small_fragments(Fragments& f, double min_volume, double* removed_volume = nullptr);
-// Throws drop_small_fragments' std::invalid_argument for a negative or non-finite min_volume.
-void check_min_volume(double min_volume);
 
 // A fragment's object for a later fracture run (ch. 7.3): segmentation cut every crack of the run
 // into the fragment as a thin slit; the cracks it keeps (incomplete, to grow again) must not read as

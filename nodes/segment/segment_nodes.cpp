@@ -45,8 +45,7 @@ graph::NodeType fragments_node() {
                 c.has("cracks") ? broken_object(object, c.in<CrackLevelSets>("cracks")) : object;
             const double s = c.real("s");
             if (s < 0 && s != -1) c.fail("parameter 's': " + graph::format_number(s) + " m is negative; use -1 for s = r_f or a value in [0, r_f]");
-            const double min_volume = c.real("min_volume");
-            check_min_volume(min_volume);  // before the segmentation, not after it
+            const double min_volume = c.real("min_volume");  // finite and >= 0: the parameter's range
             f = find_fragments(broken, SegmentOptions{s, c.boolean("tiles"), min_volume});
             f.object = object;
             double dropped_volume = 0;

@@ -1,5 +1,6 @@
 // The surface mesher (issue 14) against independent truth: the textured box of textured_box.hpp
 // (exact UVs and materials in closed form) cut by two planar cracks into four fragments.
+#include "graph/atomic_write.hpp"
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/domain/triangle_closest_point.hpp"
 #include "nodes/import/read_mesh.hpp"
@@ -37,7 +38,9 @@ const Fixture& fixture() {
         const fs::path dir = fs::temp_directory_path() / "crackflow-tests" / "surface_fragments";
         fs::create_directories(dir);
         const fs::path obj = dir / "box.obj";
-        std::ofstream(obj) << box_obj();
+        // Written atomically: ctest -j2 runs these tests as parallel processes, and one re-writing
+        // box.obj in place while another read it failed a test now and then.
+        graph::write_atomically(obj, [](std::ostream& os) { os << box_obj(); });
         ImportOptions io;
         io.weld_tolerance = 1e-9;
         f.input = read_mesh(obj, io);
