@@ -15,7 +15,9 @@
 // dirty_decay_ms:-1   never hand freed pages back to the kernel while the process lives; a run's
 // muzzy_decay_ms:-1   footprint is its peak either way, and a later step reuses them
 //
-// MALLOC_CONF in the environment is read after this string and overrides it (e.g. to compare).
+// On a virtual machine whose host reclaims free guest memory, main turns the huge pages off for the
+// process (runtime/huge_pages.hpp). MALLOC_CONF in the environment is read after this string and
+// overrides it (e.g. to compare); with it set, main leaves the pages as MALLOC_CONF says.
 extern "C" {
 extern const char* malloc_conf;
 const char* malloc_conf = "thp:always,metadata_thp:always,dirty_decay_ms:-1,muzzy_decay_ms:-1";

@@ -1,5 +1,7 @@
 #include "runtime/heap_description.hpp"
 
+#include "runtime/huge_pages.hpp"
+
 #include <dlfcn.h>
 #include <gnu/libc-version.h>
 #include <sys/types.h>
@@ -37,8 +39,9 @@ std::string read_ssize(Mallctl ctl, const char* name) {
 std::string heap_description() {
     auto ctl = reinterpret_cast<Mallctl>(dlsym(RTLD_DEFAULT, "mallctl"));
     if (!ctl) return std::string("glibc ") + gnu_get_libc_version() + " malloc";
+    const std::string pages = huge_pages_note();
     return "jemalloc " + read_string(ctl, "version") + " (thp: " + read_string(ctl, "opt.thp") +
-           ", dirty_decay_ms: " + read_ssize(ctl, "opt.dirty_decay_ms") + ")";
+           ", dirty_decay_ms: " + read_ssize(ctl, "opt.dirty_decay_ms") + ")" + (pages.empty() ? "" : "; " + pages);
 }
 
 #endif

@@ -1,6 +1,7 @@
 // crackflow: the command line. A thin main over the runtime library (cf. OpenVDB's vdb_tool).
 #include "nodes/register_all.hpp"
 #include "runtime/batch_command.hpp"
+#include "runtime/huge_pages.hpp"
 #include "runtime/node_docs.hpp"
 #include "runtime/run_command.hpp"
 #include "runtime/verify_command.hpp"
@@ -12,6 +13,8 @@
 #include <cstdio>
 
 int main(int argc, char** argv) {
+    // Before the run's large allocations (runtime/huge_pages.hpp says why).
+    cf::runtime::settle_huge_pages();
     // Under a file-size limit (ulimit -f) a write past it would kill the process with SIGXFSZ and
     // leave a temporary behind; ignored, the write fails with EFBIG, which the atomic writers report
     // with the file's name, and the run ends with exit 1 and its report.

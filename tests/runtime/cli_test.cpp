@@ -1,4 +1,5 @@
 // The crackflow binary end to end: exit codes, error listings, report.json, Ctrl-C.
+#include "runtime/huge_pages.hpp"
 #include "tests/harness/node_harness.hpp"
 
 #include <gtest/gtest.h>
@@ -6,6 +7,7 @@
 
 #include <array>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -96,8 +98,12 @@ TEST(Cli, RunWritesReportWithPerNodeTimesCountsAndVersions) {
     EXPECT_EQ(allocator.substr(0, 9), "jemalloc ") << allocator;
     EXPECT_NE(allocator.find(", dirty_decay_ms: -1)"), std::string::npos) << allocator;
     // jemalloc turns its thp option to "not supported" on a kernel built without transparent huge pages.
-    if (std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled"))
+    if (std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled")) {
         EXPECT_NE(allocator.find("(thp: always,"), std::string::npos) << allocator;
+    }
+    // ... and turned off for the process where the host reclaims free memory (runtime/huge_pages.hpp).
+    const bool reclaims = !std::getenv("MALLOC_CONF") && cf::runtime::host_reclaims_free_memory("/sys/bus/virtio/devices");
+    EXPECT_EQ(allocator.find("huge pages off for this process") != std::string::npos, reclaims) << allocator;
 #else
     EXPECT_EQ(allocator.find("jemalloc"), std::string::npos) << allocator;
 #endif
