@@ -631,13 +631,16 @@ struct TipCache {
         Matrix W, X;  // 3 M x 9, 3 N x 9
     };
     // One crack pair, owned by b (the touched element of larger index): D[al][be] goes to
-    // HY(nodes(a)[al], nodes(b)[be]).
+    // HY(nodes(a)[al], nodes(b)[be]). It holds for the kinds and places of a and b in `kind` and
+    // `place` below: an entry is either integrated for them or kept because they did not change.
+    // (Kinds and places per pair made an entry 1 KiB instead of 664 bytes: 374 MB of
+    // cube_compressive's 657 MB peak.)
     struct Pair {
-        Place a_where, b_where;
-        TipElementKind ka, kb;
         std::array<std::array<Mat3, 3>, 3> D;
     };
     const SurfaceOperators* surface = nullptr;
+    std::vector<TipElementKind> kind;  // per crack element of the step this cache belongs to
+    std::vector<Place> place;
     std::map<int, std::shared_ptr<const Columns>> columns;
     // Sorted by key (b, a): built in that order each step and read back with a cursor, so a step with
     // hundreds of thousands of kept pairs costs no tree of them.
@@ -675,10 +678,6 @@ std::shared_ptr<const TipCache::Columns> surface_columns(const SurfaceOperators&
 std::shared_ptr<const TipCache::Pair> crack_pair(const std::vector<ElementGeometry>& gc, const TipBasis& basis, int a, int b,
                                                  const ElasticConstants& ec, const TipRules& rules, const PairQuadrature& quad) {
     auto c = std::make_shared<TipCache::Pair>();
-    c->a_where = Place(gc[a]);
-    c->b_where = Place(gc[b]);
-    c->ka = basis.kind[a];
-    c->kb = basis.kind[b];
     const int lo = std::min(a, b), hi = std::max(a, b);
     PairBlocks blk;
     TipPairBlocks tip;
@@ -842,6 +841,9 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     const TipCache* old = previous && previous->tip_cache && previous->tip_cache->surface == &surface ? previous->tip_cache.get() : nullptr;
     auto cache = std::make_shared<TipCache>();
     cache->surface = &surface;
+    cache->kind = basis.kind;
+    cache->place.reserve(gc.size());
+    for (const ElementGeometry& g : gc) cache->place.emplace_back(g);
 
     // Which corrections are new: every touched element's surface columns, and every crack pair with a
     // touched element (owned by the touched one of larger index), unless the previous step has them.
@@ -866,12 +868,11 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
             std::shared_ptr<const TipCache::Pair> kept;
             if (old) {
                 while (cursor < old->pairs.size() && old->pairs[cursor].first < key) ++cursor;
-                if (cursor < old->pairs.size() && old->pairs[cursor].first == key) {
-                    const TipCache::Pair& q = *old->pairs[cursor].second;
-                    if (same_tip_kind(q.ka, basis.kind[a]) && same_tip_kind(q.kb, basis.kind[b]) &&
-                        (from_previous || (same_place(q.a_where, gc[a]) && same_place(q.b_where, gc[b]))))
-                        kept = old->pairs[cursor].second;
-                }
+                // A pair of the step before has both elements from then (indices below its size).
+                if (cursor < old->pairs.size() && old->pairs[cursor].first == key &&
+                    same_tip_kind(old->kind[std::size_t(a)], basis.kind[a]) && same_tip_kind(old->kind[std::size_t(b)], basis.kind[b]) &&
+                    (from_previous || (same_place(old->place[std::size_t(a)], gc[a]) && same_place(old->place[std::size_t(b)], gc[b]))))
+                    kept = old->pairs[cursor].second;
             }
             if (!kept) fresh_pairs.push_back(cache->pairs.size());
             cache->pairs.emplace_back(key, std::move(kept));
