@@ -1,5 +1,6 @@
 #include "nodes/bem/solver.hpp"
 
+#include "nodes/bem/nearly_touching.hpp"
 #include "nodes/bem/tip_elements.hpp"
 
 #include <algorithm>
@@ -46,6 +47,15 @@ void require(bool ok, const std::string& what) {
     if (!ok) throw std::runtime_error(what);
 }
 
+// A surface block that is not positive definite: where the mesh is too tight for its integrals, if
+// somewhere (nearly_touching.hpp), else the mesh properties the method needs.
+void require_surface(bool ok, const SurfaceOperators& o, const std::string& what) {
+    if (ok) return;
+    const std::string where = describe_nearly_touching(o.geometry);
+    const std::string check = "check that the surface is closed, consistently oriented and free of self-intersections";
+    throw std::runtime_error(what + "; " + (where.empty() ? check : "the likeliest cause: " + where + "; else " + check));
+}
+
 std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const SurfaceOperators>& ops,
                                                     const ResolvedConditions& bc) {
     auto sys = std::make_shared<SurfaceSystem>();
@@ -82,8 +92,7 @@ std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const 
         Matrix DR = sys->gamma * sys->T.transpose() * sys->T;
         add_lower_gram(DR, o.D);  // lower triangle of D^T D + gamma T^T T
         sys->r_factor.compute(std::move(DR));
-        require(sys->r_factor.ok(),
-                "regularised Neumann matrix D_R (eq. 7.4) is not positive definite; is the surface closed and consistently oriented?");
+        require_surface(sys->r_factor.ok(), o, "regularised Neumann matrix D_R (eq. 7.4) is not positive definite");
         return sys;
     }
     if (o.V.size() == 0)
@@ -97,7 +106,7 @@ std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const 
     const auto idxN = dofs3(sys->n_nodes);
     if (!idxD.empty()) {
         sys->v_factor.compute(o.V(idxD, idxD));
-        require(sys->v_factor.ok(), "single-layer block V_DD is not positive definite");
+        require_surface(sys->v_factor.ok(), o, "single-layer block V_DD is not positive definite");
     }
     if (!idxN.empty()) {
         Matrix S = o.D(idxN, idxN);
@@ -107,7 +116,7 @@ std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const 
             add_lower_gram(S, sys->l_inv_k);  // lower triangle of D_NN + W^T W
         }
         sys->s_factor.compute(std::move(S));
-        require(sys->s_factor.ok(), "SGBEM complement D_NN + K^T V^-1 K is not positive definite");
+        require_surface(sys->s_factor.ok(), o, "SGBEM complement D_NN + K^T V^-1 K is not positive definite");
     }
     return sys;
 }
