@@ -20,7 +20,8 @@ struct NearlyTouchingPair {
     double ratio() const { return size > 0 ? gap / size : 0; }
 };
 
-// Distance between two triangles [m] (0 when they meet) and the midpoint of its closest points.
+// Distance between two triangles [m] (0 when they meet) and the midpoint of its closest points
+// (also the fragment cracks' clearance test, nodes/propagate/fragment_cracks.cpp).
 double triangle_distance(const ElementGeometry& a, const ElementGeometry& b, Vec3* midpoint = nullptr);
 
 // The pair of triangles without a common vertex with the smallest gap / size.

@@ -2,6 +2,7 @@
 
 #include "graph/diagnostics.hpp"
 #include "nodes/bem/element_geometry.hpp"
+#include "nodes/bem/nearly_touching.hpp"
 #include "nodes/bem/surface_intersection.hpp"
 #include "nodes/domain/mesh_topology.hpp"
 #include "nodes/domain/triangle_closest_point.hpp"
@@ -23,50 +24,6 @@ namespace {
 using Edge = std::pair<int, int>;
 Edge undirected(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
-// ---- Distances between triangles (the surface test). Brute force over the surface: BEM meshes
-// are coarse, and each crack triangle is tested once.
-
-// Distance between segments [p1, q1] and [p2, q2] (Ericson 5.1.9).
-double segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {
-    const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-    const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-    double s = 0, t = 0;
-    if (a <= 0 && e <= 0) return r.norm();
-    if (a <= 0) {
-        t = std::clamp(f / e, 0.0, 1.0);
-    } else {
-        const double c = d1.dot(r);
-        if (e <= 0) {
-            s = std::clamp(-c / a, 0.0, 1.0);
-        } else {
-            const double b = d1.dot(d2), den = a * e - b * b;
-            s = den > 0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
-            t = (b * s + f) / e;
-            if (t < 0) {
-                t = 0;
-                s = std::clamp(-c / a, 0.0, 1.0);
-            } else if (t > 1) {
-                t = 1;
-                s = std::clamp((b - c) / a, 0.0, 1.0);
-            }
-        }
-    }
-    return ((p1 + s * d1) - (p2 + t * d2)).norm();
-}
-
-// Distance between two closed triangles: 0 when they meet (the assembly's own test), else the
-// smallest vertex-triangle or edge-edge distance.
-double triangle_distance(const bem::ElementGeometry& A, const bem::ElementGeometry& B) {
-    if (bem::triangles_intersect(A, B)) return 0;
-    double d = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 3; ++k) {
-        d = std::min(d, (A.p[k] - closest_point_on_triangle(A.p[k], B.p[0], B.p[1], B.p[2]).point).norm());
-        d = std::min(d, (B.p[k] - closest_point_on_triangle(B.p[k], A.p[0], A.p[1], A.p[2]).point).norm());
-        for (int l = 0; l < 3; ++l) d = std::min(d, segment_distance(A.p[k], A.p[(k + 1) % 3], B.p[l], B.p[(l + 1) % 3]));
-    }
-    return d;
-}
-
 // Generalised winding number of the closed surface at p (Van Oosterom and Strackee solid angles).
 double winding_number(const std::vector<bem::ElementGeometry>& surface, const Vec3& p) {
     double w = 0;
@@ -85,7 +42,7 @@ double winding_number(const std::vector<bem::ElementGeometry>& surface, const Ve
 bool clear_inside(const bem::ElementGeometry& crack, const std::vector<bem::ElementGeometry>& surface, double clearance) {
     for (const bem::ElementGeometry& s : surface) {
         if ((crack.centroid - s.centroid).norm() - crack.diameter - s.diameter > clearance) continue;
-        if (triangle_distance(crack, s) < clearance) return false;
+        if (bem::triangle_distance(crack, s) < clearance) return false;  // brute force: BEM meshes are coarse
     }
     return winding_number(surface, crack.centroid) > 0.5;
 }
