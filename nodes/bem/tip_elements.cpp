@@ -631,16 +631,15 @@ struct TipCache {
         Matrix W, X;  // 3 M x 9, 3 N x 9
     };
     // One crack pair, owned by b (the touched element of larger index): D[al][be] goes to
-    // HY(nodes(a)[al], nodes(b)[be]). It holds for the kinds and places of a and b in `kind` and
-    // `place` below: an entry is either integrated for them or kept because they did not change.
-    // (Kinds and places per pair made an entry 1 KiB instead of 664 bytes: 374 MB of
-    // cube_compressive's 657 MB peak.)
+    // HY(nodes(a)[al], nodes(b)[be]). It holds for the kinds of a and b in `kind` below and their
+    // places in the geometry of the operators this cache belongs to: an entry is either integrated
+    // for them or kept because they did not change. (Kinds and places per pair made an entry 1 KiB
+    // instead of 664 bytes: 374 MB of cube_compressive's 657 MB peak.)
     struct Pair {
         std::array<std::array<Mat3, 3>, 3> D;
     };
     const SurfaceOperators* surface = nullptr;
     std::vector<TipElementKind> kind;  // per crack element of the step this cache belongs to
-    std::vector<Place> place;
     std::map<int, std::shared_ptr<const Columns>> columns;
     // Sorted by key (b, a): built in that order each step and read back with a cursor, so a step with
     // hundreds of thousands of kept pairs costs no tree of them.
@@ -842,8 +841,6 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     auto cache = std::make_shared<TipCache>();
     cache->surface = &surface;
     cache->kind = basis.kind;
-    cache->place.reserve(gc.size());
-    for (const ElementGeometry& g : gc) cache->place.emplace_back(g);
 
     // Which corrections are new: every touched element's surface columns, and every crack pair with a
     // touched element (owned by the touched one of larger index), unless the previous step has them.
@@ -868,10 +865,12 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
             std::shared_ptr<const TipCache::Pair> kept;
             if (old) {
                 while (cursor < old->pairs.size() && old->pairs[cursor].first < key) ++cursor;
-                // A pair of the step before has both elements from then (indices below its size).
+                // A pair of the step before has both elements from then (indices below its size); their
+                // places then are in `previous`, whose cache `old` is.
+                const auto& was = previous->geometry;
                 if (cursor < old->pairs.size() && old->pairs[cursor].first == key &&
                     same_tip_kind(old->kind[std::size_t(a)], basis.kind[a]) && same_tip_kind(old->kind[std::size_t(b)], basis.kind[b]) &&
-                    (from_previous || (same_place(old->place[std::size_t(a)], gc[a]) && same_place(old->place[std::size_t(b)], gc[b]))))
+                    (from_previous || (same_place(Place(was[std::size_t(a)]), gc[a]) && same_place(Place(was[std::size_t(b)]), gc[b]))))
                     kept = old->pairs[cursor].second;
             }
             if (!kept) fresh_pairs.push_back(cache->pairs.size());

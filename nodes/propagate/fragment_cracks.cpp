@@ -3,15 +3,12 @@
 #include "graph/diagnostics.hpp"
 #include "nodes/bem/element_geometry.hpp"
 #include "nodes/bem/nearly_touching.hpp"
-#include "nodes/bem/surface_intersection.hpp"
 #include "nodes/domain/mesh_topology.hpp"
-#include "nodes/domain/triangle_closest_point.hpp"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
