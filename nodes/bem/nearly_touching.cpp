@@ -102,14 +102,51 @@ NearlyTouchingPair nearly_touching_pair(const std::vector<ElementGeometry>& g) {
     return out;
 }
 
+namespace {
+
+std::string num(double v) {  // three significant digits are enough to find the place
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return std::string(buf);
+}
+
+}  // namespace
+
+std::string describe_worst_row(const std::vector<ElementGeometry>& g, int element, double residual, double residual_limit) {
+    if (element < 0 || static_cast<std::size_t>(element) >= g.size() || !(residual >= residual_limit)) return "";
+    const ElementGeometry& e = g[element];
+    // The edge neighbour whose normal turns furthest from this one's: the fold's inner angle is 180 degrees
+    // minus the angle between the normals.
+    int fold = -1;
+    double fold_cos = 2;
+    for (std::size_t b = 0; b < g.size(); ++b) {
+        if (static_cast<int>(b) == element) continue;
+        int shared = 0;
+        for (int i : e.nodes)
+            for (int j : g[b].nodes) shared += i == j;
+        if (shared != 2) continue;
+        const double c = e.normal.dot(g[b].normal);
+        if (c < fold_cos) {
+            fold_cos = c;
+            fold = static_cast<int>(b);
+        }
+    }
+    const Vec3& w = e.centroid;
+    std::string out = "triangle " + std::to_string(element) + " at (" + num(w.x()) + ", " + num(w.y()) + ", " + num(w.z()) +
+                      ") m, whose row of the double layer misses the rigid translations by " + num(residual) +
+                      " (a well-shaped surface: about 1e-4)";
+    if (fold >= 0) {
+        const double inner = 180 - std::acos(std::clamp(fold_cos, -1.0, 1.0)) * 180 / M_PI;
+        out += ", folds at " + num(inner) + " degrees against triangle " + std::to_string(fold);
+    }
+    const double sliver = e.area / (0.25 * std::sqrt(3.0) * e.diameter * e.diameter);  // 1 for equilateral
+    out += " and has " + num(sliver) + " of an equilateral triangle's area for its longest edge";
+    return out;
+}
+
 std::string describe_nearly_touching(const std::vector<ElementGeometry>& g, double ratio_limit) {
     const NearlyTouchingPair p = nearly_touching_pair(g);
     if (!p.found || p.ratio() >= ratio_limit) return "";
-    auto num = [](double v) {  // three significant digits are enough to find the place
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.3g", v);
-        return std::string(buf);
-    };
     const Vec3& w = p.where;
     return "triangles " + std::to_string(p.a) + " and " + std::to_string(p.b) + " share no vertex but lie " + num(p.gap) +
            " m apart at (" + num(w.x()) + ", " + num(w.y()) + ", " + num(w.z()) + ") m, " + num(p.ratio()) +

@@ -31,4 +31,12 @@ NearlyTouchingPair nearly_touching_pair(const std::vector<ElementGeometry>& g);
 // comes closer than `ratio_limit` times its size.
 std::string describe_nearly_touching(const std::vector<ElementGeometry>& g, double ratio_limit = 0.25);
 
+// A sentence for an error message about the element whose row of the double layer misses the rigid
+// translations most (rigid_motion_rows.hpp: `residual`, dimensionless): where it is, by how much, and
+// the sharpest fold between it and a triangle sharing an edge with it (the touching pairs' rules lose
+// accuracy across sharp folds and on slivers). Empty when the residual is below `residual_limit`
+// (well-shaped closed surfaces stay near 1e-4).
+std::string describe_worst_row(const std::vector<ElementGeometry>& g, int element, double residual,
+                               double residual_limit = 1e-3);
+
 }  // namespace cf::bem

@@ -19,8 +19,13 @@ RigidMotionRows impose_rigid_motion_rows(Eigen::MatrixXd& K, const std::vector<E
         for (Eigen::Index j = 0; j < N; ++j) residual.block(row, 0, rows, 3) += K.block(row, 3 * j, rows, 3);
     });
     RigidMotionRows out;
-    for (Eigen::Index a = 0; a < M; ++a)
-        out.max_residual = std::max(out.max_residual, residual.block<3, 3>(3 * a, 0).norm() / geometry[a].area);
+    for (Eigen::Index a = 0; a < M; ++a) {
+        const double r = residual.block<3, 3>(3 * a, 0).norm() / geometry[a].area;
+        if (r > out.max_residual) {
+            out.max_residual = r;
+            out.worst_element = static_cast<int>(a);
+        }
+    }
     if (!closed_oriented || !(out.max_residual < limit)) return out;
     // The same third of the residual off each vertex block: the change's first moment,
     // sum_v C_v (x_v - centroid), is zero, so a linear field's row sees no change beyond its value at the

@@ -25,6 +25,7 @@ struct RigidMotionRows {
     bool applied = false;     // false: the mesh is not a closed oriented manifold, or K is far off
     double max_residual = 0;  // before: max over rows of |translation residual|_F / area (dimensionless;
                               // sqrt(3) for a surface that is inside out)
+    int worst_element = -1;   // the row (P0 test element) where max_residual is reached
 };
 
 // Measures and (if the surface qualifies) removes the translation residual of every row of

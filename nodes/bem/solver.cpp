@@ -47,13 +47,22 @@ void require(bool ok, const std::string& what) {
     if (!ok) throw std::runtime_error(what);
 }
 
-// A surface block that is not positive definite: where the mesh is too tight for its integrals, if
-// somewhere (nearly_touching.hpp), else the mesh properties the method needs.
+// A surface block that is not positive definite: where the integrals are worst (the double layer's
+// rigid-motion residual, rigid_motion_rows.hpp) and where the mesh is too tight for its integrals
+// (nearly_touching.hpp), if somewhere, else the mesh properties the method needs.
 void require_surface(bool ok, const SurfaceOperators& o, const std::string& what) {
     if (ok) return;
+    const std::string row = describe_worst_row(o.geometry, o.rigid_motion.worst_element, o.rigid_motion.max_residual);
     const std::string where = describe_nearly_touching(o.geometry);
     const std::string check = "check that the surface is closed, consistently oriented and free of self-intersections";
-    throw std::runtime_error(what + "; " + (where.empty() ? check : "the likeliest cause: " + where + "; else " + check));
+    std::string text = what + "; ";
+    if (!row.empty()) text += "the integrals are worst at " + row + "; ";
+    if (!where.empty()) text += (row.empty() ? "the likeliest cause: " : "also ") + where + "; else " + check;
+    else if (!row.empty())
+        text += "remesh with more, smaller triangles (simplify.remesh target_triangles; lib/surface.yaml 'triangles') or smooth "
+                "the surface there; else " + check;
+    else text += check;
+    throw std::runtime_error(text);
 }
 
 std::shared_ptr<const SurfaceSystem> factor_surface(const std::shared_ptr<const SurfaceOperators>& ops,

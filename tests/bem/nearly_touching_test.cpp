@@ -2,7 +2,10 @@
 // distances against hand-computed values, and the nearest pair of triangles without a common vertex
 // on meshes whose gap is known.
 #include "nodes/bem/nearly_touching.hpp"
+#include "nodes/bem/operators.hpp"
 #include "nodes/bem/test_meshes.hpp"
+
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -76,6 +79,38 @@ TEST(NearlyTouchingPair, AConvexSurfaceHasNoneToReport) {
     EXPECT_NEAR(p.ratio(), 1 / std::sqrt(6.0), 1e-12);
     EXPECT_EQ(describe_nearly_touching(g), "");
     EXPECT_EQ(describe_nearly_touching(element_geometries(bem_icosphere_mesh(2, 0.05), "test")), "");
+}
+
+TEST(WorstRow, NamesTheTriangleItsSharpestFoldAndItsShape) {
+    // Triangle 0 in z = 0 with the edge (0,0,0)-(1,0,0), on its y < 0 side; triangle 1 shares that edge
+    // and folds back over triangle 0 at 30 degrees (its third vertex at (0.5, -cos 30, sin 30), the
+    // orientation consistent: normals (0, 0, -1) and (0, sin 30, cos 30)); triangle 2 shares only a vertex,
+    // triangle 3 the edge (1,0,0)-(0.5,-0.2,0), flat (180 degrees).
+    // Triangle 0 has the vertices (0,0,0), (1,0,0), (0.5,-0.2,0): area 0.1, longest edge 1, so 0.1 /
+    // (sqrt(3)/4) = 0.231 of an equilateral triangle's area.
+    const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+    SurfaceMesh m;
+    m.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, -0.2, 0}, {0.5, -c, s}, {-1, 0, 0}, {-0.5, -1, 0}, {1, -0.6, 0}};
+    m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 4, 5}, {2, 1, 6}};
+    const std::vector<ElementGeometry> g = element_geometries(m, "test");
+    const std::string text = describe_worst_row(g, 0, 0.047);
+    EXPECT_NE(text.find("triangle 0 at (0.5, -0.0667, 0) m"), std::string::npos) << text;
+    EXPECT_NE(text.find("misses the rigid translations by 0.047"), std::string::npos) << text;
+    EXPECT_NE(text.find("folds at 30 degrees against triangle 1"), std::string::npos) << text;
+    EXPECT_NE(text.find("has 0.231 of an equilateral"), std::string::npos) << text;
+    EXPECT_EQ(describe_worst_row(g, 0, 5e-4), "");  // below the limit: nothing to say
+    EXPECT_EQ(describe_worst_row(g, -1, 0.047), "");  // no row measured
+}
+
+TEST(WorstRow, TheAssemblyRecordsTheRowOfTheLargestResidual) {
+    // The cube's rows all sit near the same residual; whichever is largest, it is the one recorded.
+    const SurfaceMesh m = bem_cube_mesh(3, 0.1);
+    const auto ops = assemble_surface_operators(m, Material{}, AssemblyOptions{});
+    ASSERT_GE(ops->rigid_motion.worst_element, 0);
+    ASSERT_LT(ops->rigid_motion.worst_element, int(m.triangles.size()));
+    EXPECT_GT(ops->rigid_motion.max_residual, 0.0);
+    EXPECT_LT(ops->rigid_motion.max_residual, 1e-3);  // a well-shaped surface: no sentence for it
+    EXPECT_EQ(describe_worst_row(ops->geometry, ops->rigid_motion.worst_element, ops->rigid_motion.max_residual), "");
 }
 
 }  // namespace
