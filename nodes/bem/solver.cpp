@@ -57,11 +57,13 @@ void require_surface(bool ok, const SurfaceOperators& o, const std::string& what
     const std::string check = "check that the surface is closed, consistently oriented and free of self-intersections";
     std::string text = what + "; ";
     if (!row.empty()) text += "the integrals are worst at " + row + "; ";
-    if (!where.empty()) text += (row.empty() ? "the likeliest cause: " : "also ") + where + "; else " + check;
-    else if (!row.empty())
-        text += "remesh with more, smaller triangles (simplify.remesh target_triangles; lib/surface.yaml 'triangles') or smooth "
-                "the surface there; else " + check;
-    else text += check;
+    if (!where.empty()) text += (row.empty() ? "the likeliest cause: " : "also ") + where;
+    if (!row.empty())
+        text += std::string(where.empty() ? "remesh with more, smaller triangles (simplify.remesh target_triangles; "
+                                            "lib/surface.yaml 'triangles') or"
+                                          : "; or remesh") +
+                " with blunter folds (simplify.remesh min_dihedral, 30 degrees by default; lib/surface.yaml 'min_dihedral')";
+    text += (row.empty() && where.empty() ? "" : "; else ") + check;
     throw std::runtime_error(text);
 }
 
