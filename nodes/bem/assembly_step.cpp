@@ -14,7 +14,8 @@ bool same_mesh(const SurfaceMesh& a, const SurfaceMesh& b) { return a.vertices =
 bool surface_reusable(const SurfaceOperators& s, const SurfaceMesh& mesh, const ElasticConstants& ec, const AssemblyOptions& opt) {
     return same_mesh(s.mesh, mesh) && s.elastic.mu == ec.mu && s.elastic.nu == ec.nu && s.options.single_layer == opt.single_layer &&
            s.options.quadrature.singular_order == opt.quadrature.singular_order &&
-           s.options.quadrature.farfield_boost == opt.quadrature.farfield_boost;
+           s.options.quadrature.farfield_boost == opt.quadrature.farfield_boost &&
+           s.options.quadrature.fold_angle == opt.quadrature.fold_angle && s.options.quadrature.fold_order == opt.quadrature.fold_order;
 }
 
 // assemble_step's steps, in the order it calls them.

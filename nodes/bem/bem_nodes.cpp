@@ -23,6 +23,11 @@ void declare_assemble_params(graph::NodeType& t) {
     t.param_real("nu", 0.327, "", "Poisson's ratio").range(0, 0.4999);
     t.param_int("singular_order", 5, "Gauss points per direction of the Sauter-Schwab rules (5: ~1e-5 operator error)")
         .range(2, 10);
+    t.param_real("fold_angle", 60, "degrees",
+                 "touching triangles folded sharper than this (inner angle; 180 flat, 90 a box edge) take the fold "
+                 "rules; 0: none")
+        .range(0, 180);
+    t.param_int("fold_order", 10, "Gauss points per direction of the Sauter-Schwab rules on sharp folds").range(2, 12);
     t.param_int("farfield_boost", 0, "extra far-field quadrature zones (0 = distance-based default)").range(0, 6);
     t.param_bool("single_layer", true, "assemble V (needed only when some region has a displacement condition)");
     t.param_real("memory_budget", 0, "GB",
@@ -75,6 +80,8 @@ bem::AssemblyRequest assembly_request(graph::NodeContext& c) {
     if (c.string("front_elements") != "inherit") rq.tip_elements = c.string("front_elements") == "square_root";
     rq.options.quadrature.singular_order = static_cast<int>(c.integer("singular_order"));
     rq.options.quadrature.farfield_boost = static_cast<int>(c.integer("farfield_boost"));
+    rq.options.quadrature.fold_angle = c.real("fold_angle");
+    rq.options.quadrature.fold_order = static_cast<int>(c.integer("fold_order"));
     rq.options.single_layer = c.boolean("single_layer");
     rq.options.memory_budget_bytes = memory_budget_param(c);
     rq.material.E = c.real("E");

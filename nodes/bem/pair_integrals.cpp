@@ -44,6 +44,11 @@ PairQuadrature::PairQuadrature(const QuadratureSettings& s) : settings_(s) {
     edge_ = padded(sauter_schwab_rule(PairKind::common_edge, s.singular_order));
     vert_ = padded(sauter_schwab_rule(PairKind::common_vertex, s.singular_order));
     if (s.fixed_regular > 0) fixed_ = tensor_pair_rule(collapsed_gauss_triangle_rule(s.fixed_regular));
+    if (s.fold_angle > 0) {
+        fold_cos_ = -std::cos(s.fold_angle * M_PI / 180);
+        edge_fold_ = padded(sauter_schwab_rule(PairKind::common_edge, s.fold_order));
+        vert_fold_ = padded(sauter_schwab_rule(PairKind::common_vertex, s.fold_order));
+    }
     for (int z = 0; z < num_regular_zones; ++z) zones_[z] = tensor_pair_rule(regular_zone_rule(z));
 }
 
@@ -158,7 +163,7 @@ PairIntegrals pair_integrals(const ElementGeometry& a, const ElementGeometry& b,
             perm_b[0] = ib[0]; perm_b[1] = ib[0] == 0 ? 1 : 0; perm_b[2] = ib[0] == 2 ? 1 : 2;
         }
     }
-    const PairRule& r = kind != PairKind::separated ? q.singular(kind) : q.regular_pairs(separation_ratio(a, b));
+    const PairRule& r = kind != PairKind::separated ? q.touching(kind, a.normal.dot(b.normal)) : q.regular_pairs(separation_ratio(a, b));
     return integrate_pair(a, perm_a, b, perm_b, r);
 }
 
