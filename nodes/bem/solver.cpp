@@ -55,15 +55,18 @@ void require_surface(bool ok, const SurfaceOperators& o, const std::string& what
     const std::string row = describe_worst_row(o.geometry, o.rigid_motion.worst_element, o.rigid_motion.max_residual);
     const std::string where = describe_nearly_touching(o.geometry);
     const std::string check = "check that the surface is closed, consistently oriented and free of self-intersections";
+    const std::string folds =
+        "with blunter folds (simplify.remesh min_dihedral, 30 degrees by default; lib/surface.yaml 'min_dihedral')";
     std::string text = what + "; ";
-    if (!row.empty()) text += "the integrals are worst at " + row + "; ";
-    if (!where.empty()) text += (row.empty() ? "the likeliest cause: " : "also ") + where;
     if (!row.empty())
-        text += std::string(where.empty() ? "remesh with more, smaller triangles (simplify.remesh target_triangles; "
-                                            "lib/surface.yaml 'triangles') or"
-                                          : "; or remesh") +
-                " with blunter folds (simplify.remesh min_dihedral, 30 degrees by default; lib/surface.yaml 'min_dihedral')";
-    text += (row.empty() && where.empty() ? "" : "; else ") + check;
+        text += "the integrals are worst at " + row + "; " +
+                (where.empty() ? "remesh with more, smaller triangles (simplify.remesh target_triangles; lib/surface.yaml "
+                                 "'triangles') or " + folds
+                               : "also " + where + "; or remesh " + folds) +
+                "; else ";
+    else if (!where.empty())
+        text += "the likeliest cause: " + where + "; else ";
+    text += check;
     throw std::runtime_error(text);
 }
 
