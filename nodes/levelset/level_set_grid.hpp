@@ -55,7 +55,8 @@ std::size_t rasterise_triangle_band(openvdb::FloatGrid& grid, const std::vector<
 
 // The signed narrow band of one closed, manifold, outward oriented shell without degenerate
 // triangles by exact distances (object_band.cpp; exact_level_set_from_mesh checks the mesh):
-// the values meshToLevelSet gives where its band expansion is exact, the exact distance elsewhere.
+// the exact distance (in meshToVolume's float arithmetic, without its renormalisation, see
+// object_band.cpp's band_value).
 // Polls `cancel` per few blocks.
 // meshToVolume's renormalisation and trimming of a signed band in world units (object_band.cpp),
 // polled per chunk of leaves; trim as meshToVolume does it when the band is under 4 voxels.

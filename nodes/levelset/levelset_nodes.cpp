@@ -27,7 +27,8 @@ graph::NodeType from_mesh_node() {
                    "how the narrow band is computed: openvdb (OpenVDB's meshToLevelSet, the results of "
                    "docs/pipelines.md) or exact (exact distances rasterised per block in parallel: less CPU, "
                    "Ctrl-C within a block; values differ from meshToLevelSet's by up to 0.13 voxel away from the "
-                   "surface, which moves remeshed BEM meshes)");
+                   "surface, which moves remeshed BEM meshes, and by up to a voxel inside thin parts, which "
+                   "meshToLevelSet's renormalisation thickens)");
     t.param_bool("write_vdb", false, "also write object.vdb into the output directory");
     t.writes_fixed("object.vdb", "write_vdb");
     t.output<LevelSet>("level_set", "object signed distance grid [m]");

@@ -1,5 +1,5 @@
 // OpenVDB translation unit: the object's narrow band by exact distances (levelset.from_mesh
-// band: exact, issue 17). One closest-point query per (voxel, candidate triangle), in OpenVDB's
+// band: exact, issue 17). One closest-point query per (voxel, candidate triangle) within the band, in OpenVDB's
 // index space from float corners as meshToVolume computes it, the sign from the same query by the
 // angle-weighted pseudo-normal of the closest feature; leaf-sized blocks in parallel (oneTBB), each
 // building its own leaf, so the grid is the same for any thread count; the interior stays tiles.
@@ -86,21 +86,39 @@ void polled_for(std::size_t n, const Body& body, const CancelToken& cancel) {
     });
 }
 
-// The last steps of OpenVDB's meshToVolume on a signed band (MeshToVolume.h, OpenVDB 10), so the
-// values are those meshToLevelSet gives: sign into the tiles, then renormalisation and trimming.
-void finish_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, const CancelToken& cancel) {
+// The band's value at index-space distance d (voxels), signed: meshToVolume's voxel * sqrt(float(d^2)),
+// final. meshToVolume then renormalises (MeshToVolume.h of OpenVDB 10: shift by -offset, one upwind
+// renormalisation step kept where it is smaller, shift back by offset - epsilon), which this band
+// ran too until 2026-12-06. On exact distances that step only moves values where upwind
+// differences see a kink, and always inwards: by up to 0.86 voxel inside the armadillo's thin parts
+// (6185 voxels changed sign, thickening them), by one float ulp on a sixth of a box's voxels. It also
+// needed one more voxel layer to read, and took half of a box's band time. The two shifts are kept
+// (per voxel, in the same float arithmetic): they move every value by epsilon = 1e-7 m, and without
+// them every band value would change, not only those the renormalisation touched.
+inline float band_value(double d2, bool inside, float voxel) {
+    namespace m2v = openvdb::tools::mesh_to_volume_internal;
+    const float d = std::sqrt(float(d2));
+    const float offset = float(0.8 * voxel);
+    float v = voxel * (inside ? -d : d);
+    v += -offset;
+    v += offset - m2v::Tolerance<float>::epsilon();
+    return v;
+}
+
+// The sign into the tiles and the leaves' inactive voxels (+-width), then pruned.
+void finish_band(openvdb::FloatGrid& grid, float voxel_size, float half_width, const CancelToken& cancel) {
     const float width = half_width * voxel_size;
     openvdb::FloatTree& tree = grid.tree();
     tree.root().setBackground(width, /*updateChildNodes=*/false);
     openvdb::tools::signedFloodFillWithValues(tree, width, -width);
     if (cancel.requested()) return;
-    renormalise_and_trim_like_mesh_to_volume(grid, voxel_size, half_width, /*trim=*/true, cancel);
+    prune_level_set_polled(tree, width, -width, cancel);
 }
 
 }  // namespace
 
-// One renormalisation step (which keeps exact distances), then the band trimmed to +-half_width
-// voxels and pruned: meshToVolume's own steps, with its functors, in the same order, but polled
+// One renormalisation step (on an exact band it moves values inward where upwind differences see a
+// kink, see band_value), then the band trimmed to +-half_width voxels and pruned: meshToVolume's own steps, with its functors, in the same order, but polled
 // per chunk of leaves (in meshToVolume they run between two checks of its interrupter: 4 s on
 // the armadillo at r_f = 0.2 mm on a loaded machine).
 void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, bool trim,
@@ -226,9 +244,7 @@ std::unique_ptr<LeafT> band_leaf(const openvdb::Coord& origin, const std::uint32
     for (int off = 0; off < kSize; ++off) {
         if (!(best[off] < reach2)) continue;
         if (!leaf) leaf = std::make_unique<LeafT>(origin, background, false);
-        // meshToVolume's value: sqrt of the float squared index-space distance, times the float voxel.
-        const float d = std::sqrt(float(best[off]));
-        leaf->setValueOn(openvdb::Index(off), voxel * (inside[off] ? -d : d));
+        leaf->setValueOn(openvdb::Index(off), band_value(best[off], inside[off], voxel));
     }
     return leaf;
 }
@@ -238,9 +254,8 @@ std::unique_ptr<LeafT> band_leaf(const openvdb::Coord& origin, const std::uint32
 openvdb::FloatGrid::Ptr exact_band_grid(const SurfaceMesh& mesh, double r_f, double half_width, const CancelToken& cancel) {
     const auto xform = openvdb::math::Transform::createLinearTransform(r_f);
     const float voxel = float(r_f);  // meshToVolume works with the transform's float voxel size
-    // One voxel beyond the band, so the renormalisation sees exact neighbours (as meshToLevelSet's
-    // band expansion gives it).
-    const double reach = half_width + 1;
+    // The band itself: its values are final, no renormalisation needs neighbours beyond it.
+    const double reach = half_width;
     // Vertices rounded to float (meshToLevelSet's input), then to float index-space corners (as
     // its TransformPoints gives them).
     std::vector<Vec3> points, corners;
@@ -309,7 +324,7 @@ openvdb::FloatGrid::Ptr exact_band_grid(const SurfaceMesh& mesh, double r_f, dou
     openvdb::FloatTree& tree = g->tree();
     for (auto& leaf : leaves)
         if (leaf) tree.addLeaf(leaf.release());
-    finish_like_mesh_to_volume(*g, voxel, float(half_width), cancel);
+    finish_band(*g, voxel, float(half_width), cancel);
     return g;
 }
 
