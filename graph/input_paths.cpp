@@ -5,24 +5,26 @@
 
 namespace cf::graph {
 
-std::vector<std::filesystem::path> data_search_path() {
+namespace {
+
+// The directories of a ':'-separated environment variable (empty entries skipped), then `builtin`.
+std::vector<std::filesystem::path> search_path(const char* variable, const char* builtin) {
     std::vector<std::filesystem::path> dirs;
-    if (const char* env = std::getenv(kDataPathVariable)) {
+    if (const char* env = std::getenv(variable)) {
         const std::string text = env;
         std::size_t start = 0;
         while (start <= text.size()) {
             const std::size_t end = std::min(text.find(':', start), text.size());
-            if (end > start) dirs.emplace_back(text.substr(start, end - start));  // empty entries are skipped
+            if (end > start) dirs.emplace_back(text.substr(start, end - start));
             start = end + 1;
         }
     }
-#ifdef CRACKFLOW_DATA_DIR
-    dirs.emplace_back(CRACKFLOW_DATA_DIR);
-#endif
+    if (builtin) dirs.emplace_back(builtin);
     return dirs;
 }
 
-InputFileSearch find_input_file(const std::string& value, const std::filesystem::path& base_dir) {
+InputFileSearch find_file(const std::string& value, const std::filesystem::path& base_dir,
+                          const std::vector<std::filesystem::path>& search) {
     InputFileSearch r;
     const std::filesystem::path p(value);
     std::vector<std::filesystem::path> candidates;
@@ -30,7 +32,7 @@ InputFileSearch find_input_file(const std::string& value, const std::filesystem:
         candidates.push_back(p);
     } else {
         candidates.push_back(base_dir / p);
-        for (const auto& d : data_search_path()) candidates.push_back(d / p);
+        for (const auto& d : search) candidates.push_back(d / p);
     }
     for (const auto& c : candidates) {
         std::error_code ec;
@@ -42,6 +44,32 @@ InputFileSearch find_input_file(const std::string& value, const std::filesystem:
         }
     }
     return r;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> data_search_path() {
+#ifdef CRACKFLOW_DATA_DIR
+    return search_path(kDataPathVariable, CRACKFLOW_DATA_DIR);
+#else
+    return search_path(kDataPathVariable, nullptr);
+#endif
+}
+
+std::vector<std::filesystem::path> pipeline_search_path() {
+#ifdef CRACKFLOW_PIPELINE_DIR
+    return search_path(kPipelinePathVariable, CRACKFLOW_PIPELINE_DIR);
+#else
+    return search_path(kPipelinePathVariable, nullptr);
+#endif
+}
+
+InputFileSearch find_input_file(const std::string& value, const std::filesystem::path& base_dir) {
+    return find_file(value, base_dir, data_search_path());
+}
+
+InputFileSearch find_pipeline_file(const std::string& value, const std::filesystem::path& base_dir) {
+    return find_file(value, base_dir, pipeline_search_path());
 }
 
 }  // namespace cf::graph

@@ -15,6 +15,10 @@
 namespace cf::graph {
 
 inline constexpr const char* kDataPathVariable = "CRACKFLOW_DATA_PATH";
+// Sub-pipeline files (`use: FILE`) are looked up the same way: beside the using file, then in each
+// directory of CRACKFLOW_PIPELINE_PATH (':'-separated), then in crackflow's own pipelines directory
+// (CRACKFLOW_PIPELINE_DIR, compiled in), so a pipeline anywhere can say `use: lib/fracture.yaml`.
+inline constexpr const char* kPipelinePathVariable = "CRACKFLOW_PIPELINE_PATH";
 
 struct InputFileSearch {
     std::string found;               // absolute, normalised; empty when none exists
@@ -25,5 +29,10 @@ struct InputFileSearch {
 std::vector<std::filesystem::path> data_search_path();
 
 InputFileSearch find_input_file(const std::string& value, const std::filesystem::path& base_dir);
+
+// The directories searched after the using file's own for a sub-pipeline, in order.
+std::vector<std::filesystem::path> pipeline_search_path();
+
+InputFileSearch find_pipeline_file(const std::string& value, const std::filesystem::path& base_dir);
 
 }  // namespace cf::graph

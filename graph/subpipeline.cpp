@@ -7,6 +7,7 @@
 // Its nodes join the plan as USE/NODE (so a file can be used twice), with the using node's
 // parameters applied over the file's own values; errors inside name the used file's line and the
 // using file's line (SourceLoc::via).
+#include "graph/input_paths.hpp"
 #include "graph/pipeline_loader.hpp"
 
 #include <filesystem>
@@ -78,11 +79,14 @@ void Loader::expand_use(const std::string& name, const SourceLoc& name_loc, cons
     }
     const std::string written = file_node.Scalar();
     const SourceLoc use_loc = loc(file_node);
-    // The file relative to the using file's directory; shown as the using file's path names it.
+    // The file beside the using file, shown as the using file's path names it; else on the
+    // pipeline search path (CRACKFLOW_PIPELINE_PATH, then crackflow's own pipelines/), shown absolute.
     std::filesystem::path shown(written), abs(written);
+    const InputFileSearch search = find_pipeline_file(written, scopes_[parent].dir);
     if (shown.is_relative()) {
         shown = (std::filesystem::path(scopes_[parent].file).parent_path() / shown).lexically_normal();
         abs = (scopes_[parent].dir / written).lexically_normal();
+        if (!search.found.empty() && search.found != abs.string()) shown = abs = search.found;
     }
     std::error_code ec;
     const std::filesystem::path canonical = std::filesystem::weakly_canonical(abs, ec);
@@ -101,8 +105,12 @@ void Loader::expand_use(const std::string& name, const SourceLoc& name_loc, cons
         return;
     }
     if (!std::filesystem::exists(abs, ec) || std::filesystem::is_directory(abs, ec)) {
-        error(use_loc, "sub-pipeline file '" + written + "' of use node '" + name + "' not found: " + abs.string(),
-              "a sub-pipeline is looked up relative to the file that uses it");
+        std::string tried;
+        for (const std::string& t : search.tried) tried += (tried.empty() ? "" : ", ") + t;
+        error(use_loc, "sub-pipeline file '" + written + "' of use node '" + name + "' not found: " + tried,
+              "a sub-pipeline is looked up beside the file that uses it, then in each directory of " +
+                  std::string(kPipelinePathVariable) + " (':'-separated), then in crackflow's own pipelines directory "
+                  "(lib/fracture.yaml, lib/surface.yaml)");
         return;
     }
     Scope sc;

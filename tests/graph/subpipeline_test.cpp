@@ -2,10 +2,12 @@
 // file (both files and lines), overrides of a use node's parameters, optional inputs, nesting and
 // self-use, the printed pipeline and the dot graph.
 #include "graph/executor.hpp"
+#include "graph/input_paths.hpp"
 #include "test_registry.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -260,4 +262,62 @@ fast:
     EXPECT_EQ(std::get<double>(again.nodes[again.find("a/k")].params.at("value")), 5.0);
     EXPECT_EQ(std::get<double>(again.nodes[again.find("x")].params.at("value")), 0.25);
     EXPECT_EQ(std::get<std::string>(again.nodes[again.find("w")].params.at("path")), "w: final.txt");
+}
+
+// A sub-pipeline not beside the using file is looked up on CRACKFLOW_PIPELINE_PATH, in order (a
+// library of the user's own, shared by pipelines in other directories); a file beside the using
+// file comes first; a file found nowhere names every absolute path tried, in order.
+TEST(SubPipeline, FoundOnThePipelinePathAfterTheUsingFilesDirectory) {
+    const fs::path d = fresh_dir("search-path");
+    write(d / "shared" / "lib" / "add.yaml", kAddLib);
+    write(d / "project" / "main.yaml", R"(nodes:
+  x: {type: core.real, params: {value: 2}}
+  a: {type: use, use: lib/add.yaml, inputs: {x: x.value}, params: {k: 3, out: a.txt}}
+)");
+    ::setenv(cf::graph::kPipelinePathVariable, ((d / "empty").string() + "::" + (d / "shared").string()).c_str(), 1);
+    std::vector<cf::graph::Diagnostic> diags;
+    auto plan = cf::graph::load_pipeline_file((d / "project" / "main.yaml").string(), test_registry(), {}, diags);
+    ASSERT_TRUE(diags.empty()) << all(diags);
+    ASSERT_EQ(plan.uses.size(), 1u);
+    EXPECT_EQ(plan.uses[0].file, (d / "shared" / "lib" / "add.yaml").string());
+    cf::graph::RunOptions run;
+    run.output_dir = d / "out";
+    auto r = cf::graph::execute(plan, run);
+    ASSERT_TRUE(r.ok) << r.error;
+    EXPECT_EQ(read_number(d / "out" / "a.txt"), 5.0);  // 2 + 3 by the shared file
+
+    // A file of the same name beside the using file shadows the shared one: it adds k twice.
+    write(d / "project" / "lib" / "add.yaml", R"(parameters:
+  k: {to: k.value}
+  out: {to: write.path}
+inputs:
+  x: {type: Real}
+outputs:
+  y: twice.sum
+nodes:
+  k: {type: core.real, params: {value: 1}}
+  once: {type: core.add, inputs: {a: input.x, b: k.value}}
+  twice: {type: core.add, inputs: {a: once.sum, b: k.value}}
+  write: {type: core.write_real, inputs: {value: twice.sum}, params: {path: y.txt}}
+)");
+    diags.clear();
+    plan = cf::graph::load_pipeline_file((d / "project" / "main.yaml").string(), test_registry(), {}, diags);
+    ASSERT_TRUE(diags.empty()) << all(diags);
+    r = cf::graph::execute(plan, run);
+    ASSERT_TRUE(r.ok) << r.error;
+    EXPECT_EQ(read_number(d / "out" / "a.txt"), 8.0);  // 2 + 3 + 3 by the local file
+
+    write(d / "project" / "missing.yaml", "nodes:\n  m: {type: use, use: lib/none.yaml}\n");
+    diags.clear();
+    cf::graph::load_pipeline_file((d / "project" / "missing.yaml").string(), test_registry(), {}, diags);
+    ::unsetenv(cf::graph::kPipelinePathVariable);
+    ASSERT_EQ(diags.size(), 1u) << all(diags);
+    const std::string text = all(diags);
+    EXPECT_EQ(diags[0].loc.line, 2);
+    const auto a = text.find((d / "project" / "lib" / "none.yaml").string());
+    const auto b = text.find((d / "empty" / "lib" / "none.yaml").string());
+    const auto c = text.find((d / "shared" / "lib" / "none.yaml").string());
+    EXPECT_NE(a, std::string::npos) << text;
+    EXPECT_TRUE(a < b && b < c && c != std::string::npos) << text;
+    EXPECT_NE(text.find("CRACKFLOW_PIPELINE_PATH"), std::string::npos) << text;
 }

@@ -401,6 +401,38 @@ TEST(Cli, MissingInputFileNamesTheAbsolutePathsTried) {
     EXPECT_NE(e.output.find("    " + (dir / "elsewhere.off").string() + "\n"), std::string::npos) << e.output;
 }
 
+// A pipeline of the user's own, in a directory of its own, uses the shipped sub-pipelines by their
+// names (lib/surface.yaml, lib/fracture.yaml: crackflow's own pipelines directory is on the search
+// path) and validates from another working directory; --print-pipeline names the file it found.
+TEST(Cli, UserPipelineElsewhereUsesTheShippedLibrary) {
+    const auto dir = cf::testing::temp_dir("cli-user-lib");
+    std::ofstream(dir / "mine.yaml") << R"(nodes:
+  material: {type: material.brittle, params: {E: 3.1e9, nu: 0.327, rho: 1200, tensile_strength: 7.6e7, toughness: 1.0e6, compressive_factor: 2}}
+  strength: {type: fields.homogeneous, params: {value: 7.6e7, quantity: strength}}
+  toughness: {type: fields.homogeneous, params: {value: 1.0e6}}
+  ring: {type: shape.torus, params: {major_radius: 0.03, minor_radius: 0.008}}
+  body:
+    type: use
+    use: lib/surface.yaml
+    inputs: {mesh: ring.mesh}
+    params: {r_f: 5.0e-4, coarse_voxel_size: 1.0e-3, triangles: 300, regions: "left: x <= -0.03; right: x >= 0.03"}
+  start: {type: fracture.start, inputs: {mesh: body.mesh, object: body.object}, params: {r_c: 1.0e-2}}
+  fracture:
+    type: use
+    use: lib/fracture.yaml
+    inputs: {mesh: body.mesh, object: body.object, material: material.material, toughness: toughness.field,
+             strength: strength.field, state: start.state}
+    params: {boundary_conditions: "left: displacement 0 0 0; right: traction 1e7 0 0; *: traction 0 0 0", max_iterations: 2, max_cracks: 1}
+)";
+    Outcome v = run_cli("validate " + (dir / "mine.yaml").string());
+    EXPECT_EQ(v.code, 0) << v.output;
+    Outcome p = run_cli("run " + (dir / "mine.yaml").string() + " --print-pipeline");
+    EXPECT_EQ(p.code, 0) << p.output;
+    EXPECT_NE(p.output.find("fracture/steps"), std::string::npos) << p.output;
+    // The shipped files are the ones found (not copies beside the user's pipeline).
+    EXPECT_FALSE(std::filesystem::exists(dir / "lib"));
+}
+
 namespace {
 
 std::string file_bytes(const std::filesystem::path& p) {
