@@ -48,20 +48,19 @@ InputFileSearch find_file(const std::string& value, const std::filesystem::path&
 
 }  // namespace
 
-std::vector<std::filesystem::path> data_search_path() {
-#ifdef CRACKFLOW_DATA_DIR
-    return search_path(kDataPathVariable, CRACKFLOW_DATA_DIR);
-#else
-    return search_path(kDataPathVariable, nullptr);
+// The build's data and crackflow's own pipelines directories (graph/CMakeLists.txt); none when
+// compiled without them.
+#ifndef CRACKFLOW_DATA_DIR
+#define CRACKFLOW_DATA_DIR nullptr
 #endif
-}
+#ifndef CRACKFLOW_PIPELINE_DIR
+#define CRACKFLOW_PIPELINE_DIR nullptr
+#endif
+
+std::vector<std::filesystem::path> data_search_path() { return search_path(kDataPathVariable, CRACKFLOW_DATA_DIR); }
 
 std::vector<std::filesystem::path> pipeline_search_path() {
-#ifdef CRACKFLOW_PIPELINE_DIR
     return search_path(kPipelinePathVariable, CRACKFLOW_PIPELINE_DIR);
-#else
-    return search_path(kPipelinePathVariable, nullptr);
-#endif
 }
 
 InputFileSearch find_input_file(const std::string& value, const std::filesystem::path& base_dir) {
