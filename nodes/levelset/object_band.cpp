@@ -1,8 +1,9 @@
 // OpenVDB translation unit: the object's narrow band by exact distances (levelset.from_mesh
-// band: exact, issue 17). One closest-point query per (voxel, candidate triangle) within the band, in OpenVDB's
-// index space from float corners as meshToVolume computes it, the sign from the same query by the
-// angle-weighted pseudo-normal of the closest feature; leaf-sized blocks in parallel (oneTBB), each
-// building its own leaf, so the grid is the same for any thread count; the interior stays tiles.
+// band: exact, issue 17). One closest-point query per (voxel of the band, candidate triangle), in
+// OpenVDB's index space from float corners as meshToVolume computes it, the sign from the same
+// query by the angle-weighted pseudo-normal of the closest feature; leaf-sized blocks in parallel
+// (oneTBB), each building its own leaf, so the grid is the same for any thread count; the interior
+// stays tiles.
 #include "nodes/levelset/level_set_grid.hpp"
 
 #include "nodes/domain/triangle_closest_point.hpp"
@@ -86,15 +87,16 @@ void polled_for(std::size_t n, const Body& body, const CancelToken& cancel) {
     });
 }
 
-// The band's value at index-space distance d (voxels), signed: meshToVolume's voxel * sqrt(float(d^2)),
-// final. meshToVolume then renormalises (MeshToVolume.h of OpenVDB 10: shift by -offset, one upwind
-// renormalisation step kept where it is smaller, shift back by offset - epsilon), which this band
-// ran too until 2026-12-06. On exact distances that step only moves values where upwind
-// differences see a kink, and always inwards: by up to 0.86 voxel inside the armadillo's thin parts
-// (6185 voxels changed sign, thickening them), by one float ulp on a sixth of a box's voxels. It also
-// needed one more voxel layer to read, and took half of a box's band time. The two shifts are kept
-// (per voxel, in the same float arithmetic): they move every value by epsilon = 1e-7 m, and without
-// them every band value would change, not only those the renormalisation touched.
+// The band's value at squared index-space distance d2 [voxels^2], signed: meshToVolume's
+// voxel * sqrt(float(d2)), final. meshToVolume then renormalises (MeshToVolume.h of OpenVDB 10:
+// shift by -offset, one upwind renormalisation step kept where it is smaller, shift back by
+// offset - epsilon), which this band ran too until 2026-12-06. On exact distances that step only
+// moves values where upwind differences see a kink, and always inwards: by up to 0.86 voxel inside
+// the armadillo's thin parts (6185 voxels changed sign, thickening them), by one float ulp on a
+// sixth of a box's voxels. It also needed one more voxel layer to read, and took half of a box's
+// band time. The two shifts are kept (per voxel, in the same float arithmetic): they move every
+// value by epsilon = 1e-7 m, and without them every band value would change, not only those the
+// renormalisation touched.
 inline float band_value(double d2, bool inside, float voxel) {
     namespace m2v = openvdb::tools::mesh_to_volume_internal;
     const float d = std::sqrt(float(d2));
@@ -117,10 +119,11 @@ void finish_band(openvdb::FloatGrid& grid, float voxel_size, float half_width, c
 
 }  // namespace
 
-// One renormalisation step (on an exact band it moves values inward where upwind differences see a
-// kink, see band_value), then the band trimmed to +-half_width voxels and pruned: meshToVolume's own steps, with its functors, in the same order, but polled
-// per chunk of leaves (in meshToVolume they run between two checks of its interrupter: 4 s on
-// the armadillo at r_f = 0.2 mm on a loaded machine).
+// One renormalisation step (on an exact band it moves values inward where upwind differences see
+// a kink, see band_value), then the band trimmed to +-half_width voxels and pruned: meshToVolume's
+// own steps, with its functors, in the same order, but polled per chunk of leaves (in meshToVolume
+// they run between two checks of its interrupter: 4 s on the armadillo at r_f = 0.2 mm on a loaded
+// machine).
 void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, bool trim,
                                              const CancelToken& cancel) {
     namespace m2v = openvdb::tools::mesh_to_volume_internal;
