@@ -2,6 +2,7 @@
 
 #include "graph/diagnostics.hpp"
 
+#include <cmath>
 #include <variant>
 
 namespace cf::runtime {
@@ -64,6 +65,24 @@ void note_crack_limit(const graph::Plan& plan, const graph::ExecutionResult& res
                     "max_cracks if more cracks should start");
 }
 
+// simplify.remesh node i ended more than 5 % away from its target count: it keeps the closest of
+// its edge-length corrections rather than failing, so the user hears of it here.
+void note_remesh_count(const graph::Plan& plan, const graph::ExecutionResult& result, std::size_t i,
+                       std::vector<std::string>& notes) {
+    const graph::PlanNode& n = plan.nodes[i];
+    const auto p = n.params.find("target_triangles");
+    if (p == n.params.end() || !std::holds_alternative<long long>(p->second)) return;
+    const double target = double(std::get<long long>(p->second)), got = last_count(result.stats[i], "triangles");
+    if (!(target > 0) || !(got > 0) || std::abs(got / target - 1) <= 0.05) return;
+    const std::string at = where_set(n, "target_triangles");
+    notes.push_back("simplify.remesh '" + n.name + "': " + graph::format_number(got) + " triangles for target_triangles = " +
+                    graph::format_number(target) + (at.empty() ? " (the default)" : " (" + at + ")") + ", " +
+                    graph::format_number(std::round(1000 * std::abs(got / target - 1)) / 10) +
+                    " % off: the closest count its edge-length corrections reached within the element-shape bounds "
+                    "(thin parts and small shells take elements of their own). Change target_triangles if the BEM "
+                    "mesh should be finer or coarser");
+}
+
 }  // namespace
 
 std::vector<std::string> run_notes(const graph::Plan& plan, const graph::ExecutionResult& result) {
@@ -72,6 +91,7 @@ std::vector<std::string> run_notes(const graph::Plan& plan, const graph::Executi
         if (result.stats[i].runs == 0) continue;
         if (plan.nodes[i].is_loop()) note_cut_short_loop(plan, result, i, notes);
         else if (result.stats[i].type == "initiate.cracks") note_crack_limit(plan, result, i, notes);
+        else if (result.stats[i].type == "simplify.remesh") note_remesh_count(plan, result, i, notes);
     }
     return notes;
 }

@@ -21,8 +21,9 @@ graph::NodeType remesh_node() {
                       "surface, element-shape repair (flips, collapses, splits, vertex moves), self-intersection repair "
                       "(delete one-ring, fill holes). Guarantees a closed, manifold, oriented mesh without "
                       "self-intersections, every triangle angle >= min_angle and every dihedral between neighbours >= "
-                      "min_dihedral, the count within 5 % of the target; fails naming the bound otherwise. Shells "
-                      "smaller than one element are left out (counter dropped_shells).");
+                      "min_dihedral (fails naming the bound otherwise); the count as close to the target as up to six "
+                      "edge-length corrections get it (counter triangles; a run note when it is more than 5 % off). "
+                      "Shells smaller than one element are left out (counter dropped_shells).");
     t.input<LevelSet>("level_set", "object signed distance grid");
     t.optional_input<SurfaceMesh>("regions_from",
                                   "the fine mesh the level set was made from (e.g. import.mesh with face groups): each "
@@ -30,7 +31,11 @@ graph::NodeType remesh_node() {
                                   "that no coarse triangle takes is an error");
     t.param_int("target_triangles", 1000, "target triangle count (App. A item 13)").range(4, 10000000);
     t.param_real("offset_voxels", 1, "voxels", "outward offset in multiples of r_f (App. A item 14)").range(0, 3);
-    t.param_real("adaptivity", 0, "", "adaptivity of the dense dual-contoured mesh, [0, 1]").range(0, 1);
+    t.param_real("adaptivity", 0, "",
+                 "adaptivity of the dense dual-contoured mesh, [0, 1]: 0 keeps every voxel face; 0.1 merges nearly "
+                 "flat ones first, so the QEM pass (most of this node's time) has several times fewer triangles to "
+                 "collapse (a 30 cm camel at 1 mm: 345k -> 41k, 5.1 -> 1.2 s), at the price of a different BEM mesh")
+        .range(0, 1);
     t.param_real("min_angle", 15, "degrees", "smallest triangle angle the result must have; the node fails if repair cannot reach it")
         .range(1, 40);
     t.param_real("min_dihedral", 30, "degrees",

@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <array>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <cstdio>
@@ -196,6 +197,41 @@ TEST(Cli, ReachedCrackLimitIsNotedWithWhereItWasSet) {
     EXPECT_NE(note.find("max_cracks = 2 (set at " + src("pipelines/default.yaml") + ":"), std::string::npos) << note;
     EXPECT_NE(note.find(" " + std::to_string(static_cast<int>(held)) + " more surface elements"), std::string::npos) << note;
     EXPECT_NE(o.output.find("note: " + note + "\n"), std::string::npos) << o.output;
+}
+
+// A remesh that ends far from its target count says so (the node keeps the closest count its
+// edge-length corrections reach instead of failing); one within 5 % does not. A small torus: 24
+// requested, 36 made (a ring needs that many for the element-shape bounds); 60 requested, 60 made.
+TEST(Cli, RemeshFarFromItsTargetCountIsNoted) {
+    const auto dir = cf::testing::temp_dir("cli-remesh-note");
+    for (int target : {24, 60}) {
+        const auto p = dir / ("ring" + std::to_string(target) + ".yaml");
+        std::ofstream(p) << "nodes:\n  ring: {type: shape.torus, params: {major_radius: 0.03, minor_radius: 0.008}}\n"
+                            "  coarse: {type: levelset.from_mesh, inputs: {mesh: ring.mesh}, params: {voxel_size: 1.0e-3}}\n"
+                            "  bem_mesh: {type: simplify.remesh, inputs: {level_set: coarse.level_set}, params: {target_triangles: "
+                         << target << "}}\n";
+        const auto out = dir / ("out" + std::to_string(target));
+        Outcome o = run_cli("run " + p.string() + " --out " + out.string());
+        ASSERT_EQ(o.code, 0) << o.output;
+        YAML::Node report = YAML::LoadFile((out / "report.json").string());
+        double made = 0;
+        for (const auto& n : report["nodes"])
+            if (n["name"].as<std::string>() == "bem_mesh") made = n["counts"]["triangles"].as<double>();
+        const YAML::Node notes = report["summary"]["notes"];
+        if (target == 24) {
+            EXPECT_GT(std::abs(made / target - 1), 0.05) << made;
+            ASSERT_EQ(notes.size(), 1u) << o.output;
+            const std::string note = notes[0].as<std::string>();
+            EXPECT_NE(note.find("simplify.remesh 'bem_mesh': " + std::to_string(int(made)) +
+                                " triangles for target_triangles = 24 (set at " + p.string() + ":4)"),
+                      std::string::npos)
+                << note;
+            EXPECT_NE(o.output.find("note: " + note + "\n"), std::string::npos) << o.output;
+        } else {
+            EXPECT_LE(std::abs(made / target - 1), 0.05) << made;
+            EXPECT_TRUE(!notes || notes.size() == 0u) << o.output;
+        }
+    }
 }
 
 // A loop cut short by max_iterations while its while condition still held says so; one that its
