@@ -78,9 +78,8 @@ void note_remesh_count(const graph::Plan& plan, const graph::ExecutionResult& re
     notes.push_back("simplify.remesh '" + n.name + "': " + graph::format_number(got) + " triangles for target_triangles = " +
                     graph::format_number(target) + (at.empty() ? " (the default)" : " (" + at + ")") + ", " +
                     graph::format_number(std::round(1000 * std::abs(got / target - 1)) / 10) +
-                    " % off: the closest count its edge-length corrections reached within the element-shape bounds "
-                    "(thin parts and small shells take elements of their own). Change target_triangles if the BEM "
-                    "mesh should be finer or coarser");
+                    " % off: the closest count its edge-length corrections reached while meeting the element-shape "
+                    "bounds. Change target_triangles if the BEM mesh should be finer or coarser");
 }
 
 }  // namespace
