@@ -81,13 +81,22 @@ void Loader::expand_use(const std::string& name, const SourceLoc& name_loc, cons
     const SourceLoc use_loc = loc(file_node);
     // The file beside the using file, shown as the using file's path names it; else on the
     // pipeline search path (CRACKFLOW_PIPELINE_PATH, then crackflow's own pipelines/), shown absolute.
-    std::filesystem::path shown(written), abs(written);
     const InputFileSearch search = find_pipeline_file(written, scopes_[parent].dir);
-    if (shown.is_relative()) {
-        shown = (std::filesystem::path(scopes_[parent].file).parent_path() / shown).lexically_normal();
-        abs = (scopes_[parent].dir / written).lexically_normal();
-        if (!search.found.empty() && search.found != abs.string()) shown = abs = search.found;
+    if (search.found.empty()) {
+        std::string tried;
+        for (const std::string& t : search.tried) tried += (tried.empty() ? "" : ", ") + t;
+        error(use_loc, "sub-pipeline file '" + written + "' of use node '" + name + "' not found: " + tried,
+              "a sub-pipeline is looked up beside the file that uses it, then in each directory of " +
+                  std::string(kPipelinePathVariable) + " (':'-separated), then in crackflow's own pipelines directory "
+                  "(lib/fracture.yaml, lib/surface.yaml)");
+        return;
     }
+    const std::filesystem::path abs(search.found);
+    std::filesystem::path shown(written);
+    if (shown.is_relative())
+        shown = search.found == search.tried.front()
+                    ? (std::filesystem::path(scopes_[parent].file).parent_path() / shown).lexically_normal()
+                    : abs;
     std::error_code ec;
     const std::filesystem::path canonical = std::filesystem::weakly_canonical(abs, ec);
     int depth = 0;
@@ -102,15 +111,6 @@ void Loader::expand_use(const std::string& name, const SourceLoc& name_loc, cons
     }
     if (depth > kMaxUseDepth) {
         error(use_loc, "sub-pipelines nested more than " + std::to_string(kMaxUseDepth) + " deep: " + chain);
-        return;
-    }
-    if (!std::filesystem::exists(abs, ec) || std::filesystem::is_directory(abs, ec)) {
-        std::string tried;
-        for (const std::string& t : search.tried) tried += (tried.empty() ? "" : ", ") + t;
-        error(use_loc, "sub-pipeline file '" + written + "' of use node '" + name + "' not found: " + tried,
-              "a sub-pipeline is looked up beside the file that uses it, then in each directory of " +
-                  std::string(kPipelinePathVariable) + " (':'-separated), then in crackflow's own pipelines directory "
-                  "(lib/fracture.yaml, lib/surface.yaml)");
         return;
     }
     Scope sc;

@@ -73,11 +73,13 @@ void note_remesh_count(const graph::Plan& plan, const graph::ExecutionResult& re
     const auto p = n.params.find("target_triangles");
     if (p == n.params.end() || !std::holds_alternative<long long>(p->second)) return;
     const double target = double(std::get<long long>(p->second)), got = last_count(result.stats[i], "triangles");
-    if (!(target > 0) || !(got > 0) || std::abs(got / target - 1) <= 0.05) return;
+    if (!(target > 0) || !(got > 0)) return;
+    const double off = std::abs(got / target - 1);
+    if (off <= 0.05) return;
     const std::string at = where_set(n, "target_triangles");
     notes.push_back("simplify.remesh '" + n.name + "': " + graph::format_number(got) + " triangles for target_triangles = " +
                     graph::format_number(target) + (at.empty() ? " (the default)" : " (" + at + ")") + ", " +
-                    graph::format_number(std::round(1000 * std::abs(got / target - 1)) / 10) +
+                    graph::format_number(std::round(1000 * off) / 10) +
                     " % off: the closest count its edge-length corrections reached while meeting the element-shape "
                     "bounds. Change target_triangles if the BEM mesh should be finer or coarser");
 }

@@ -56,13 +56,7 @@ std::size_t rasterise_triangle_band(openvdb::FloatGrid& grid, const std::vector<
 // The signed narrow band of one closed, manifold, outward oriented shell without degenerate
 // triangles by exact distances (object_band.cpp; exact_level_set_from_mesh checks the mesh):
 // the exact distance (in meshToVolume's float arithmetic, without its renormalisation, see
-// object_band.cpp's band_value).
-// Polls `cancel` per few blocks.
-// meshToVolume's renormalisation and trimming of a signed band in world units (object_band.cpp),
-// polled per chunk of leaves; trim as meshToVolume does it when the band is under 4 voxels.
-void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, bool trim,
-                                             const CancelToken& cancel);
-
+// object_band.cpp's band_value). Polls `cancel` per few blocks.
 openvdb::FloatGrid::Ptr exact_band_grid(const SurfaceMesh& mesh, double r_f, double half_width, const CancelToken& cancel);
 
 // openvdb::tools::csgDifference (a = max(a, -b), eq. (6.1)), csgUnion (a = min(a, b)) and

@@ -10,7 +10,6 @@
 
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/SignedFloodFill.h>
-#include <openvdb/thread/Threading.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -74,19 +73,6 @@ private:
     std::vector<Vec3> vertex_;
 };
 
-// A parallel loop over `n` leaves that stops starting chunks once the run is cancelled (the
-// chunks running finish, so the tree stays consistent; the caller polls afterwards).
-template <class Body>
-void polled_for(std::size_t n, const Body& body, const CancelToken& cancel) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        if (cancel.requested()) {
-            openvdb::thread::cancelGroupExecution();
-            return;
-        }
-        body(r);
-    });
-}
-
 // The band's value at squared index-space distance d2 [voxels^2], signed: meshToVolume's
 // voxel * sqrt(float(d2)), final. meshToVolume then renormalises (MeshToVolume.h of OpenVDB 10:
 // shift by -offset, one upwind renormalisation step kept where it is smaller, shift back by
@@ -116,36 +102,6 @@ void finish_band(openvdb::FloatGrid& grid, float voxel_size, float half_width, c
     if (cancel.requested()) return;
     prune_level_set_polled(tree, width, -width, cancel);
 }
-
-}  // namespace
-
-// One renormalisation step (on an exact band it moves values inward where upwind differences see
-// a kink, see band_value), then the band trimmed to +-half_width voxels and pruned: meshToVolume's
-// own steps, with its functors, in the same order, but polled per chunk of leaves (in meshToVolume
-// they run between two checks of its interrupter: 4 s on the armadillo at r_f = 0.2 mm on a loaded
-// machine).
-void renormalise_and_trim_like_mesh_to_volume(openvdb::FloatGrid& grid, float voxel_size, float half_width, bool trim,
-                                             const CancelToken& cancel) {
-    namespace m2v = openvdb::tools::mesh_to_volume_internal;
-    openvdb::FloatTree& tree = grid.tree();
-    const float width = half_width * voxel_size;
-    std::vector<LeafT*> nodes;
-    nodes.reserve(tree.leafCount());
-    tree.getNodes(nodes);
-    const std::size_t n = nodes.size();
-    std::unique_ptr<float[]> buffer{new float[LeafT::SIZE * n]};
-    const float offset = float(0.8 * voxel_size);
-    polled_for(n, m2v::OffsetValues<openvdb::FloatTree>(nodes, -offset), cancel);
-    polled_for(n, m2v::Renormalize<openvdb::FloatTree>(tree, nodes, buffer.get(), voxel_size), cancel);
-    polled_for(n, m2v::MinCombine<openvdb::FloatTree>(nodes, buffer.get()), cancel);
-    polled_for(n, m2v::OffsetValues<openvdb::FloatTree>(nodes, offset - m2v::Tolerance<float>::epsilon()), cancel);
-    if (!trim || cancel.requested()) return;
-    polled_for(n, m2v::InactivateValues<openvdb::FloatTree>(nodes, width, width), cancel);
-    if (cancel.requested()) return;
-    prune_level_set_polled(tree, width, -width, cancel);
-}
-
-namespace {
 
 // A triangle in index space: its corners, bounding box and unit normal (for a cheap lower bound of
 // the distance: the distance to its plane).

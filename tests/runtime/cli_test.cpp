@@ -439,7 +439,7 @@ TEST(Cli, MissingInputFileNamesTheAbsolutePathsTried) {
 
 // A pipeline of the user's own, in a directory of its own, uses the shipped sub-pipelines by their
 // names (lib/surface.yaml, lib/fracture.yaml: crackflow's own pipelines directory is on the search
-// path) and validates from another working directory; --print-pipeline names the file it found.
+// path) and validates, and --print-pipeline expands them, from another working directory.
 TEST(Cli, UserPipelineElsewhereUsesTheShippedLibrary) {
     const auto dir = cf::testing::temp_dir("cli-user-lib");
     std::ofstream(dir / "mine.yaml") << R"(nodes:
