@@ -208,6 +208,15 @@ void weights_at(const TipElementKind& k, const TipPoint& p, double* f) {
 // the point loops below add all seven with two four-wide operations; each entry still gets the same
 // products added in the same order as one by one.
 typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
+// An unaligned load as a statement expression (a function returning a 32-byte vector by value changes
+// its ABI without AVX, -Wpsabi).
+#define CF_LOAD4(p)                               \
+    __extension__({                               \
+        Lanes4 v_;                                \
+        std::memcpy(&v_, (p), sizeof(Lanes4));    \
+        v_;                                       \
+    })
+inline double sum4(const Lanes4* v) { return ((*v)[0] + (*v)[1]) + ((*v)[2] + (*v)[3]); }
 struct TipSums {
     int na = 1, nb = 1;
     Lanes4 S[max_weights][max_weights][2];
@@ -267,13 +276,17 @@ struct TipRules {
     }
 };
 
-// One point pair: adds w fa_i fb_j k to the sums.
-__attribute__((always_inline)) inline void accumulate(const double* fa, const double* fb, double w, const Vec3& d, TipSums& out) {
+// One point pair's kernel values: 1/r and d_i d_j / r^3 (xx, yy, zz | xy, xz, yz, 0).
+__attribute__((always_inline)) inline void kernel_lanes(const Vec3& d, Lanes4& k0, Lanes4& k1) {
     const double r2 = d.squaredNorm();
     const double ri = 1.0 / std::sqrt(r2);
     const double r3 = ri * ri * ri;
-    const Lanes4 k0 = {ri, r3 * d.x() * d.x(), r3 * d.y() * d.y(), r3 * d.z() * d.z()};
-    const Lanes4 k1 = {r3 * d.x() * d.y(), r3 * d.x() * d.z(), r3 * d.y() * d.z(), 0.0};
+    k0 = Lanes4{ri, r3 * d.x() * d.x(), r3 * d.y() * d.y(), r3 * d.z() * d.z()};
+    k1 = Lanes4{r3 * d.x() * d.y(), r3 * d.x() * d.z(), r3 * d.y() * d.z(), 0.0};
+}
+// One point pair: adds w fa_i fb_j k to the sums.
+__attribute__((always_inline)) inline void accumulate(const double* fa, const double* fb, double w, const Lanes4& k0,
+                                                      const Lanes4& k1, TipSums& out) {
     for (int i = 0; i < out.na; ++i) {
         const double wi = w * fa[i];
         if (wi == 0) continue;
@@ -296,29 +309,138 @@ void scale_sums(const ElementGeometry& a, const ElementGeometry& b, TipSums& out
 }
 
 // Touching pairs: a Sauter-Schwab rule in reordered local coordinates.
+// One point's values on one side: its position, weights (weights_at) and psi.
+struct SidePoint {
+    Vec3 x;
+    double f[max_weights];
+    std::array<double, 3> psi;
+};
+void scalar_point(const ElementGeometry& g, const TipElementKind& k, const int* perm, double s, double t, SidePoint& out) {
+    // Reordered local (s, t) -> barycentric in the element's own order -> its (s, t).
+    double l[3];
+    l[perm[0]] = 1 - s - t;
+    l[perm[1]] = s;
+    l[perm[2]] = t;
+    const TipPoint P = tip_point_inline(g, k, l[1], l[2]);
+    out.x = P.x;
+    weights_at(k, P, out.f);
+    out.psi = P.psi;
+}
+
+// Four points of one side at once, for plain, edge and vertex elements: each lane runs tip_point_inline's
+// and weights_at's IEEE operations in their order (no FMA: isa_clones.hpp), so every value is the one
+// the scalar code gives bit for bit; only the divisions and square roots, the touching pairs' bottleneck,
+// are issued four at a time.
+struct SidePoints4 {
+    Lanes4 x[3];
+    Lanes4 f[4];  // weight_count <= 4 for these kinds
+    Lanes4 psi[3];
+};
+// Lane by lane (by reference: returning a 32-byte vector changes its ABI without AVX, -Wpsabi).
+__attribute__((always_inline)) inline void lanes_sqrt(const Lanes4& v, Lanes4& r) {
+    for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
+}
+__attribute__((always_inline)) inline void side_points4(const ElementGeometry& g, const TipElementKind& k, const int* perm, const double* s, const double* t,
+                  SidePoints4& out) {
+    Lanes4 l[3];
+    const Lanes4 S = CF_LOAD4(s), T = CF_LOAD4(t);
+    l[perm[0]] = 1 - S - T;
+    l[perm[1]] = S;
+    l[perm[2]] = T;
+    // tip_point_inline takes (s, t) = (l[1], l[2]) and forms l[0] = 1 - s - t again.
+    const Lanes4 l0 = 1 - l[1] - l[2];
+    const Lanes4 L[3] = {l0, l[1], l[2]};
+    for (int c = 0; c < 3; ++c) out.x[c] = L[0] * g.p[0][c] + L[1] * g.p[1][c] + L[2] * g.p[2][c];
+    Lanes4 rho;
+    switch (k.type) {
+    case TipElementKind::edge: rho = L[k.local]; break;
+    case TipElementKind::vertex: rho = 1 - L[k.local]; break;
+    default: rho = Lanes4{1, 1, 1, 1}; break;  // plain
+    }
+    Lanes4 sr;
+    lanes_sqrt(rho, sr);
+    const Lanes4 two_sr = 2 * sr;
+    Lanes4 q[3];
+    for (int i = 0; i < 3; ++i) {
+        q[i] = L[i] / two_sr;
+        out.psi[i] = sr * L[i];
+    }
+    out.f[0] = sr;
+    const bool plain = k.type == TipElementKind::plain;
+    for (int a = 0; a < 3; ++a) out.f[1 + a] = plain ? Lanes4{} : q[a];
+    // !(rho > 0): the scalar code sets sq, q and psi to 0.
+    for (int lane = 0; lane < 4; ++lane)
+        if (!(rho[lane] > 0)) {
+            for (int a = 0; a < 4; ++a) out.f[a][lane] = 0;
+            for (int i = 0; i < 3; ++i) out.psi[i][lane] = 0;
+        }
+}
+
 CF_AVX2_CLONE
 void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa, const ElementGeometry& b,
                const TipElementKind& kb, const int* pb, const PairRule& r, bool want_k, TipSums& out) {
-    double fa[max_weights], fb[max_weights];
-    for (std::size_t q = 0; q < r.size(); ++q) {
-        if (r.w[q] == 0) continue;
-        // Reordered local (s, t) -> barycentric in the element's own order -> its (s, t).
-        double la[3], lb[3];
-        la[pa[0]] = 1 - r.sx[q] - r.tx[q];
-        la[pa[1]] = r.sx[q];
-        la[pa[2]] = r.tx[q];
-        lb[pb[0]] = 1 - r.sy[q] - r.ty[q];
-        lb[pb[1]] = r.sy[q];
-        lb[pb[2]] = r.ty[q];
-        const TipPoint X = tip_point_inline(a, ka, la[1], la[2]);
-        const TipPoint Y = tip_point_inline(b, kb, lb[1], lb[2]);
-        weights_at(ka, X, fa);
-        weights_at(kb, Y, fb);
-        const Vec3 d = X.x - Y.x;
-        accumulate(fa, fb, r.w[q], d, out);
-        if (want_k) {
-            const double f = r.w[q] * d.dot(b.normal) / (d.squaredNorm() * d.norm());
-            for (int j = 0; j < 3; ++j) out.SK[j] += f * Y.psi[j];
+    auto four_wide = [](const TipElementKind& k) {
+        return k.type == TipElementKind::plain || k.type == TipElementKind::edge || k.type == TipElementKind::vertex;
+    };
+    const std::size_t Q = r.size();
+    const bool batched = four_wide(ka) && four_wide(kb);
+    const std::size_t Q4 = batched ? Q / 4 * 4 : 0;
+    // The points in batches of four (values into lane order), then the rest one by one; the sums take
+    // them in the rule's order either way.
+    SidePoints4 A4, B4;
+    SidePoint A, B;
+    for (std::size_t q0 = 0; q0 < Q; q0 += 4) {
+        const bool four = q0 < Q4;
+        Lanes4 k0s[4], k1s[4];
+        if (four) {
+            side_points4(a, ka, pa, &r.sx[q0], &r.tx[q0], A4);
+            side_points4(b, kb, pb, &r.sy[q0], &r.ty[q0], B4);
+            const Lanes4 dx = A4.x[0] - B4.x[0], dy = A4.x[1] - B4.x[1], dz = A4.x[2] - B4.x[2];
+            const Lanes4 r2 = dx * dx + dy * dy + dz * dz;  // Eigen's squaredNorm order
+            Lanes4 r;
+            lanes_sqrt(r2, r);
+            const Lanes4 ri = 1.0 / r;
+            const Lanes4 r3 = ri * ri * ri;
+            const Lanes4 xx = r3 * dx * dx, yy = r3 * dy * dy, zz = r3 * dz * dz, xy = r3 * dx * dy, xz = r3 * dx * dz,
+                         yz = r3 * dy * dz;
+            for (int lane = 0; lane < 4; ++lane) {
+                k0s[lane] = Lanes4{ri[lane], xx[lane], yy[lane], zz[lane]};
+                k1s[lane] = Lanes4{xy[lane], xz[lane], yz[lane], 0.0};
+            }
+        }
+        const std::size_t n = four ? 4 : std::min<std::size_t>(4, Q - q0);
+        for (std::size_t lane = 0; lane < n; ++lane) {
+            const std::size_t q = q0 + lane;
+            if (r.w[q] == 0) continue;
+            const double* fa;
+            const double* fb;
+            double fa4[4], fb4[4];
+            Vec3 d;
+            Lanes4 k0, k1;
+            if (four) {
+                for (int i = 0; i < 4; ++i) {
+                    fa4[i] = A4.f[i][lane];
+                    fb4[i] = B4.f[i][lane];
+                }
+                fa = fa4;
+                fb = fb4;
+                d = Vec3(A4.x[0][lane] - B4.x[0][lane], A4.x[1][lane] - B4.x[1][lane], A4.x[2][lane] - B4.x[2][lane]);
+                k0 = k0s[lane];
+                k1 = k1s[lane];
+            } else {
+                scalar_point(a, ka, pa, r.sx[q], r.tx[q], A);
+                scalar_point(b, kb, pb, r.sy[q], r.ty[q], B);
+                fa = A.f;
+                fb = B.f;
+                d = A.x - B.x;
+                kernel_lanes(d, k0, k1);
+            }
+            accumulate(fa, fb, r.w[q], k0, k1, out);
+            if (want_k) {
+                const std::array<double, 3>& psi_b = four ? std::array<double, 3>{B4.psi[0][lane], B4.psi[1][lane], B4.psi[2][lane]} : B.psi;
+                const double f = r.w[q] * d.dot(b.normal) / (d.squaredNorm() * d.norm());
+                for (int j = 0; j < 3; ++j) out.SK[j] += f * psi_b[j];
+            }
         }
     }
     scale_sums(a, b, out);
@@ -361,15 +483,6 @@ void side_points(const ElementGeometry& g, const TipElementKind& k, const Triang
         for (int j = 0; j < 3; ++j) out.wpsi[j * Qp + q] = r.w[q] * P.psi[j];
     }
 }
-// An unaligned load as a statement expression (a function returning a 32-byte vector by value changes
-// its ABI without AVX, -Wpsabi).
-#define CF_LOAD4(p)                               \
-    __extension__({                               \
-        Lanes4 v_;                                \
-        std::memcpy(&v_, (p), sizeof(Lanes4));    \
-        v_;                                       \
-    })
-inline double sum4(const Lanes4* v) { return ((*v)[0] + (*v)[1]) + ((*v)[2] + (*v)[3]); }
 CF_AVX2_CLONE
 void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, const TriangleRule& ra, const ElementGeometry& b,
                          const TipElementKind& kb, const TriangleRule& rb, bool want_k, TipSums& out) {

@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <functional>
+#include <map>
 #include <random>
 
 using namespace cf;
@@ -305,6 +306,93 @@ int flip_to_corner(SurfaceMesh& m) {
 }
 
 }  // namespace
+
+// The touching pairs' sums are taken four rule points at a time (tip_elements.cpp, integrate): each
+// value must still be the one of the point-by-point sum, bit for bit, so that no result moves. The
+// reference below is that sum written out with the public tip_point: the same permutation of the
+// Sauter-Schwab rule's local coordinates as integrate_pair, the same weights, 1/r and order of addition.
+TEST(TipElements, TouchingPairsFourPointsAtATimeGiveThePointByPointSums) {
+    SurfaceMesh m = disk();
+    // Tilted, so that no coordinate difference is zero and the order of r^2's terms matters.
+    const Mat3 R = (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).toRotationMatrix();
+    for (Vec3& v : m.vertices) v = R * v + Vec3(0.3, -0.2, 0.1);
+    const TipBasis kind = tip_basis(m);
+    std::vector<ElementGeometry> g;
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) g.push_back(element_geometry(m, t));
+    const int n = 7;  // production: the identical pair at n, edge and vertex pairs at n - 2
+    auto reference = [&](int ea, int eb, int fa, int fb) {
+        const ElementGeometry &a = g[ea], &b = g[eb];
+        int ia[3], ib[3], ns = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                if (a.nodes[i] == b.nodes[j]) { ia[ns] = i; ib[ns] = j; ++ns; }
+        int pa[3] = {0, 1, 2}, pb[3] = {0, 1, 2};
+        PairRule r;
+        if (ns == 3) {
+            for (int k = 0; k < 3; ++k) pb[k] = ib[k];
+            r = sauter_schwab_rule(PairKind::identical, n, true);
+        } else if (ns == 2) {
+            pa[0] = ia[0]; pa[1] = ia[1]; pa[2] = 3 - ia[0] - ia[1];
+            pb[0] = ib[0]; pb[1] = ib[1]; pb[2] = 3 - ib[0] - ib[1];
+            r = sauter_schwab_rule(PairKind::common_edge, n - 2, true);
+        } else {
+            pa[0] = ia[0]; pa[1] = ia[0] == 0 ? 1 : 0; pa[2] = ia[0] == 2 ? 1 : 2;
+            pb[0] = ib[0]; pb[1] = ib[0] == 0 ? 1 : 0; pb[2] = ib[0] == 2 ? 1 : 2;
+            r = sauter_schwab_rule(PairKind::common_vertex, n - 2, true);
+        }
+        auto w_of = [](const TipPoint& p, int f) { return f == 0 ? p.sq : p.q[f - 1]; };
+        double sum = 0;
+        for (std::size_t q = 0; q < r.size(); ++q) {
+            if (r.w[q] == 0) continue;
+            double la[3], lb[3];
+            la[pa[0]] = 1 - r.sx[q] - r.tx[q];
+            la[pa[1]] = r.sx[q];
+            la[pa[2]] = r.tx[q];
+            lb[pb[0]] = 1 - r.sy[q] - r.ty[q];
+            lb[pb[1]] = r.sy[q];
+            lb[pb[2]] = r.ty[q];
+            const TipPoint X = tip_point(a, kind.kind[ea], la[1], la[2]);
+            const TipPoint Y = tip_point(b, kind.kind[eb], lb[1], lb[2]);
+            const double wi = r.w[q] * w_of(X, fa);
+            if (wi == 0) continue;
+            const Vec3 d = X.x - Y.x;
+            sum += wi * w_of(Y, fb) * (1.0 / std::sqrt(d.squaredNorm()));
+        }
+        return sum * (4 * a.area * b.area);
+    };
+    auto shares = [&](int a, int b) {
+        int k = 0;
+        for (int u : m.triangles[a])
+            for (int w : m.triangles[b]) k += u == w;
+        return k;
+    };
+    // Touching pairs of edge, vertex and plain elements, up to four of each sharing and kind combination,
+    // in every weight pair.
+    int pairs = 0, kinds_seen[3] = {0, 0, 0};
+    std::map<std::array<int, 3>, int> per_class;
+    for (int a = 0; a < static_cast<int>(m.num_triangles()); ++a)
+        for (int b = 0; b < static_cast<int>(m.num_triangles()); ++b) {
+            const int ns = shares(a, b);
+            if (ns == 0) continue;
+            const TipElementKind ka = kind.kind[a], kb = kind.kind[b];
+            auto four_wide = [](const TipElementKind& k) {
+                return k.type == TipElementKind::plain || k.type == TipElementKind::edge || k.type == TipElementKind::vertex;
+            };
+            if (!four_wide(ka) || !four_wide(kb)) continue;
+            if (++per_class[{ns, int(ka.type), int(kb.type)}] > 4) continue;
+            ++pairs;
+            ++kinds_seen[3 - ns];
+            const int na = ka.type == TipElementKind::plain ? 1 : 4, nb = kb.type == TipElementKind::plain ? 1 : 4;
+            for (int fa = 0; fa < na; ++fa)
+                for (int fb = 0; fb < nb; ++fb)
+                    ASSERT_EQ(tip_pair_scalar(g[a], ka, fa, g[b], kb, fb, true, n), reference(a, b, fa, fb))
+                        << "pair " << a << "," << b << " weights " << fa << "," << fb;
+        }
+    EXPECT_GT(kinds_seen[0], 0);  // identical
+    EXPECT_GT(kinds_seen[1], 0);  // common edge
+    EXPECT_GT(kinds_seen[2], 0);  // common vertex
+    std::printf("touching pairs compared bit for bit: %d\n", pairs);
+}
 
 TEST(TipElements, CornerTriangleKeepsItsBasis) {
     // A triangle with all three nodes on the front but only two front edges (j-k, k-l) and a chord (j-l):
