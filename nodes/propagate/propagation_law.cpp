@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace cf::propagate {
@@ -85,6 +86,60 @@ double propagation_speed(double K_eff, double K_c, double c_R) {
 
 double substep_duration(double r_f, double c_R) { return r_f / c_R; }
 
+namespace {
+
+// The angle in (outside, inside) where K_theta falls to K_c, by bisection to 1e-14 rad: inside holds
+// K_theta > K_c, and K_theta falls monotonically from inside towards outside down to its minimum (<= 0),
+// beyond which it stays <= 0 (valid_interval). Each halving compares K_theta at the midpoint with K_c; the
+// result's bits steer the markers (eq. 4.14), so they are kept, but the comparison is made only where
+// its outcome is in doubt. A safeguarded Newton iteration first locates the crossing, then two evaluations
+// certify a bracket [a, b] around it: K_theta(a) above K_c and K_theta(b) below K_c, each by more than
+// four times the evaluation's rounding error. By monotonicity the comparison at any midpoint on a's far
+// side (towards inside) then comes out "above", and on b's far side "below": those halvings take their
+// side without evaluating K_theta (about 35 of 47; a marker's sub-step evaluated K_theta ~190 times).
+double crossing(double KI, double KII, double K_c, double inside, double outside) {
+    const double dir = inside > outside ? 1.0 : -1.0;  // from the crossing towards inside
+    // |fl(K_theta) - K_theta|: sine and cosine within an ulp, then up to seven roundings (generous).
+    const double err = 64 * std::numeric_limits<double>::epsilon() * (std::abs(KI) + 3 * std::abs(KII));
+    double a = inside, b = outside;  // certified ends (none yet: the interval's own ends)
+    if (std::isfinite(err) && K_c - 4 * err > 0) {
+        // Newton on K_theta - K_c, kept inside the bracket it narrows.
+        double in = inside, out = outside, x = 0.5 * (inside + outside);
+        for (int it = 0; it < 12; ++it) {
+            const double c = std::cos(x / 2), s = std::sin(x / 2);
+            const double g = KI * c * c * c - 3 * KII * c * c * s - K_c;
+            (g > 0 ? in : out) = x;
+            const double slope = -1.5 * KI * c * c * s + 3 * KII * c * s * s - 1.5 * KII * c * c * c;
+            double next = x - g / slope;
+            if (!((next - out) * dir > 0 && (in - next) * dir > 0)) next = 0.5 * (in + out);
+            const bool done = std::abs(next - x) < 1e-13;
+            x = next;
+            if (done) break;
+        }
+        for (const double delta : {2e-13, 1e-11, 1e-8, 1e-5}) {
+            const double ta = x + dir * delta, tb = x - dir * delta;
+            // Both strictly between outside and inside (monotonicity holds there).
+            if (!((inside - ta) * dir > 0 && (tb - outside) * dir > 0)) continue;
+            if (ktheta(KI, KII, ta) > K_c + 4 * err && ktheta(KI, KII, tb) < K_c - 4 * err) {
+                a = ta;
+                b = tb;
+                break;
+            }
+        }
+    }
+    for (int it = 0; it < 200 && std::abs(outside - inside) > 1e-14; ++it) {
+        const double mid = 0.5 * (inside + outside);
+        bool above;
+        if ((mid - a) * dir >= 0) above = true;        // at or beyond a, towards inside
+        else if ((b - mid) * dir >= 0) above = false;  // at or beyond b, towards outside
+        else above = ktheta(KI, KII, mid) > K_c;
+        (above ? inside : outside) = mid;
+    }
+    return inside;
+}
+
+}  // namespace
+
 AngleInterval valid_interval(double K_I_III, double KII, double K_c) {
     AngleInterval I;
     const double opt = kink_angle(K_I_III, KII);
@@ -93,18 +148,11 @@ AngleInterval valid_interval(double K_I_III, double KII, double K_c) {
     I.empty = false;
     // On each side of the maximum, K_theta falls monotonically to its minimum (<= 0) or to 0 at
     // +-pi and never climbs back above 0 < K_c: one crossing per side, found by bisection.
-    auto crossing = [&](double inside, double outside) {
-        for (int it = 0; it < 200 && std::abs(outside - inside) > 1e-14; ++it) {
-            const double mid = 0.5 * (inside + outside);
-            (ktheta(K_I_III, KII, mid) > K_c ? inside : outside) = mid;
-        }
-        return inside;
-    };
     // Never backwards: K_theta > K_c reaches past 90 degrees once K > 3.8 K_c (pure mode I), and
     // a front steered that far would run back through its own faces.
     const double limit = 0.5 * kPi;
-    I.lo = ktheta(K_I_III, KII, -limit) > K_c ? -limit : crossing(opt, -limit);
-    I.hi = ktheta(K_I_III, KII, limit) > K_c ? limit : crossing(opt, limit);
+    I.lo = ktheta(K_I_III, KII, -limit) > K_c ? -limit : crossing(K_I_III, KII, K_c, opt, -limit);
+    I.hi = ktheta(K_I_III, KII, limit) > K_c ? limit : crossing(K_I_III, KII, K_c, opt, limit);
     return I;
 }
 

@@ -121,6 +121,54 @@ TEST(ValidInterval, EndsWhereKthetaEqualsToughness) {
     EXPECT_TRUE(valid_interval(0.9, 0, 1).empty);
 }
 
+// valid_interval decides most of its bisection's halvings from a certified bracket instead of
+// evaluating K_theta (propagation_law.cpp, crossing): its ends must still be those of the plain
+// bisection, bit for bit, since they steer the markers. The reference is that bisection written out.
+TEST(ValidInterval, CertifiedHalvingsGiveThePlainBisectionsEnds) {
+    auto ktheta = [](double KI, double KII, double t) {
+        const double c = std::cos(t / 2), s = std::sin(t / 2);
+        return KI * c * c * c - 3 * KII * c * c * s;
+    };
+    auto reference = [&](double K, double KII, double Kc) {
+        AngleInterval I;
+        const double opt = kink_angle(K, KII);
+        I.lo = I.hi = opt;
+        if (!(ktheta(K, KII, opt) > Kc)) return I;
+        I.empty = false;
+        auto crossing = [&](double inside, double outside) {
+            for (int it = 0; it < 200 && std::abs(outside - inside) > 1e-14; ++it) {
+                const double mid = 0.5 * (inside + outside);
+                (ktheta(K, KII, mid) > Kc ? inside : outside) = mid;
+            }
+            return inside;
+        };
+        const double limit = 0.5 * kPi;
+        I.lo = ktheta(K, KII, -limit) > Kc ? -limit : crossing(opt, -limit);
+        I.hi = ktheta(K, KII, limit) > Kc ? limit : crossing(opt, limit);
+        return I;
+    };
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(0, 1);
+    int crossings = 0;
+    for (int i = 0; i < 20000; ++i) {
+        // SIFs of a few 1e5..1e7 Pa sqrt(m), toughness from far below to just above K_theta's maximum
+        // (crossings near the optimum, where K_theta is flat, are the hard ones), and a few exact
+        // touches (K_c equal to a computed K_theta value).
+        const double scale = std::pow(10.0, 5 + 2 * u(rng));
+        const double K = scale * u(rng), KII = scale * (2 * u(rng) - 1) * (i % 7 == 0 ? 1e-6 : 1);
+        const double top = ktheta(K, KII, kink_angle(K, KII));
+        double Kc = top * (i % 5 == 0 ? 1 - 1e-9 * u(rng) : 0.05 + u(rng));
+        if (i % 11 == 0) Kc = ktheta(K, KII, kink_angle(K, KII) + (u(rng) - 0.5));
+        if (!(Kc > 0)) continue;
+        const AngleInterval got = valid_interval(K, KII, Kc), want = reference(K, KII, Kc);
+        ASSERT_EQ(got.empty, want.empty) << K << " " << KII << " " << Kc;
+        ASSERT_EQ(got.lo, want.lo) << "K " << K << " K_II " << KII << " K_c " << Kc;
+        ASSERT_EQ(got.hi, want.hi) << "K " << K << " K_II " << KII << " K_c " << Kc;
+        crossings += !want.empty;
+    }
+    EXPECT_GT(crossings, 10000);
+}
+
 TEST(ValidInterval, NeverReachesBackwards) {
     // Pure mode I at K = 5 K_c: K_theta > K_c up to 2 acos(5^(-1/3)) = 108.6 degrees, but a
     // front steered past 90 degrees runs back through its own faces: clamped to +-90 degrees.
