@@ -1,5 +1,7 @@
 #include "nodes/bem/solver.hpp"
 
+#include "nodes/bem/column_chunks.hpp"
+
 #include "nodes/bem/nearly_touching.hpp"
 #include "nodes/bem/tip_elements.hpp"
 
@@ -358,26 +360,49 @@ void extend_schur_by(const SurfaceSystem& sys, const CrackOperators& cr, const C
     const CrackCoupling cn = coupling(sys, cr, fresh);
     const Matrix Zn = solve_matrix(sys, cn.B);
     const auto io = dofs3(old.dof_nodes), in = dofs3(fresh);
-    // C_n Z_o and the coupling of the old unknowns with Z_n are independent: one task each (they ran
-    // one after the other on one core). Each stays one Eigen product, so the result is bit for bit
-    // what it was: splitting a product into column chunks changes Eigen's blocking, and its last bits
-    // changed armadillo_splitting's fragments (29 instead of 32).
-    Matrix Son, Sno;
+    // C_n Z_o and the coupling of the old unknowns with Z_n are independent: one task each, and the
+    // products and solves below in column chunks (column_chunks.hpp: bit for bit the single Eigen
+    // call; chunks of other widths changed the last bits, and those armadillo_splitting's fragments).
+    Matrix Son, Sno(kn, ko);
     tbb::parallel_invoke([&] { Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old.dof_nodes, Zn); },
-                         [&] { Sno = y_block(cr, in, io) - cn.C * old.Z; });
+                         [&] {
+                             for_column_chunks(ko, [&](Eigen::Index c0, Eigen::Index w) {
+                                 const std::vector<Eigen::Index> cols(io.begin() + c0, io.begin() + c0 + w);
+                                 Sno.middleCols(c0, w) = y_block(cr, in, cols) - cn.C * old.Z.middleCols(c0, w);
+                             });
+                         });
     Son = 0.5 * (Son + Sno.transpose());
-    Matrix Snn = y_block(cr, in, in) - cn.C * Zn;
+    Matrix Snn(kn, kn);
+    for_column_chunks(kn, [&](Eigen::Index c0, Eigen::Index w) {
+        const std::vector<Eigen::Index> cols(in.begin() + c0, in.begin() + c0 + w);
+        Snn.middleCols(c0, w) = y_block(cr, in, cols) - cn.C * Zn.middleCols(c0, w);
+    });
     Snn = 0.5 * (Snn + Snn.transpose()).eval();
-    const Matrix LnoT = old.L.triangularView<Eigen::Lower>().solve(Son);
-    Snn.noalias() -= LnoT.transpose() * LnoT;
+    Matrix LnoT(ko, kn);
+    for_column_chunks(kn, [&](Eigen::Index c0, Eigen::Index w) {
+        LnoT.middleCols(c0, w) = old.L.triangularView<Eigen::Lower>().solve(Son.middleCols(c0, w));
+    });
+    for_column_chunks(kn, [&](Eigen::Index c0, Eigen::Index w) {
+        Snn.middleCols(c0, w).noalias() -= LnoT.transpose() * LnoT.middleCols(c0, w);
+    });
     Eigen::LLT<Matrix> lnn(Snn);
     require(lnn.info() == Eigen::Success, "crack Schur complement (eq. 4.3) lost positive definiteness on extension");
     schur.Z.resize(sys.size(), ko + kn);
     schur.Z << old.Z, Zn;
-    schur.L = Matrix::Zero(ko + kn, ko + kn);
-    schur.L.topLeftCorner(ko, ko) = old.L;
-    schur.L.bottomLeftCorner(kn, ko) = LnoT.transpose();
-    schur.L.bottomRightCorner(kn, kn) = lnn.matrixL();
+    // [old L, 0; LnoT^T, L_nn], column by column on parallel tasks (plain copies).
+    const Matrix Lnn = lnn.matrixL();  // the upper triangle zero
+    schur.L.resize(ko + kn, ko + kn);
+    for_column_chunks(ko + kn, [&](Eigen::Index c0, Eigen::Index w) {
+        for (Eigen::Index j = c0; j < c0 + w; ++j) {
+            if (j < ko) {
+                schur.L.col(j).head(ko) = old.L.col(j);
+                schur.L.col(j).tail(kn) = LnoT.row(j).transpose();
+            } else {
+                schur.L.col(j).head(ko).setZero();
+                schur.L.col(j).tail(kn) = Lnn.col(j - ko);
+            }
+        }
+    });
     sol.extended_schur = true;
     sol.schur_rows_added = static_cast<std::size_t>(kn);
 }
@@ -519,7 +544,11 @@ void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const TipB
     const CrackCoupling c = coupling(sys, cr, schur.dof_nodes);
     schur.Z = solve_matrix(sys, c.B);
     const auto ic = dofs3(schur.dof_nodes);
-    Matrix S = y_block(cr, ic, ic) - c.C * schur.Z;
+    Matrix S(ic.size(), ic.size());
+    for_column_chunks(S.cols(), [&](Eigen::Index c0, Eigen::Index w) {  // column_chunks.hpp
+        const std::vector<Eigen::Index> cols(ic.begin() + c0, ic.begin() + c0 + w);
+        S.middleCols(c0, w) = y_block(cr, ic, cols) - c.C * schur.Z.middleCols(c0, w);
+    });
     S = 0.5 * (S + S.transpose()).eval();
     Eigen::LLT<Matrix> llt(S);
     require(llt.info() == Eigen::Success, "crack Schur complement (eq. 4.3) is not positive definite; check crack orientation");
