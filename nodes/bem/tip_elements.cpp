@@ -308,8 +308,7 @@ void scale_sums(const ElementGeometry& a, const ElementGeometry& b, TipSums& out
     for (double& v : out.SK) v *= scale;
 }
 
-// Touching pairs: a Sauter-Schwab rule in reordered local coordinates.
-// One point's values on one side: its position, weights (weights_at) and psi.
+// One point's values on one side of a touching pair: its position, weights (weights_at) and psi.
 struct SidePoint {
     Vec3 x;
     double f[max_weights];
@@ -340,8 +339,8 @@ struct SidePoints4 {
 __attribute__((always_inline)) inline void lanes_sqrt(const Lanes4& v, Lanes4& r) {
     for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
 }
-__attribute__((always_inline)) inline void side_points4(const ElementGeometry& g, const TipElementKind& k, const int* perm, const double* s, const double* t,
-                  SidePoints4& out) {
+__attribute__((always_inline)) inline void side_points4(const ElementGeometry& g, const TipElementKind& k, const int* perm,
+                                                        const double* s, const double* t, SidePoints4& out) {
     Lanes4 l[3];
     const Lanes4 S = CF_LOAD4(s), T = CF_LOAD4(t);
     l[perm[0]] = 1 - S - T;
@@ -376,6 +375,7 @@ __attribute__((always_inline)) inline void side_points4(const ElementGeometry& g
         }
 }
 
+// Touching pairs: a Sauter-Schwab rule in reordered local coordinates.
 CF_AVX2_CLONE
 void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa, const ElementGeometry& b,
                const TipElementKind& kb, const int* pb, const PairRule& r, bool want_k, TipSums& out) {
@@ -437,7 +437,8 @@ void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa
             }
             accumulate(fa, fb, r.w[q], k0, k1, out);
             if (want_k) {
-                const std::array<double, 3>& psi_b = four ? std::array<double, 3>{B4.psi[0][lane], B4.psi[1][lane], B4.psi[2][lane]} : B.psi;
+                const std::array<double, 3> psi_b =
+                    four ? std::array<double, 3>{B4.psi[0][lane], B4.psi[1][lane], B4.psi[2][lane]} : B.psi;
                 const double f = r.w[q] * d.dot(b.normal) / (d.squaredNorm() * d.norm());
                 for (int j = 0; j < 3; ++j) out.SK[j] += f * psi_b[j];
             }
