@@ -166,6 +166,19 @@ Matrix y_block(const CrackOperators& cr, const std::vector<Eigen::Index>& ia, co
     return cr.HY(ia, ib) + cr.HY(ib, ia).transpose();
 }
 
+// Y(ia, ib) - C Z, in column chunks on parallel tasks (column_chunks.hpp: bit for bit the single
+// Eigen product; chunks of other widths changed the last bits, and with them armadillo_splitting's
+// fragments). Z has a column per entry of ib.
+Matrix y_minus_product(const CrackOperators& cr, const std::vector<Eigen::Index>& ia, const std::vector<Eigen::Index>& ib,
+                       const Matrix& C, const Matrix& Z) {
+    Matrix out(static_cast<Eigen::Index>(ia.size()), static_cast<Eigen::Index>(ib.size()));
+    for_column_chunks(out.cols(), [&](Eigen::Index c0, Eigen::Index w) {
+        const std::vector<Eigen::Index> cols(ib.begin() + c0, ib.begin() + c0 + w);
+        out.middleCols(c0, w) = y_block(cr, ia, cols) - C * Z.middleCols(c0, w);
+    });
+    return out;
+}
+
 // C M for the coupling of `nodes` (see coupling()), from the blocks W and X in column chunks, so
 // that neither B nor C (size(s) x 3 nodes each) is formed: mixed C = [W_D,C^T, X_N,C^T], pure
 // Neumann C = X_C^T.
@@ -361,22 +374,12 @@ void extend_schur_by(const SurfaceSystem& sys, const CrackOperators& cr, const C
     const Matrix Zn = solve_matrix(sys, cn.B);
     const auto io = dofs3(old.dof_nodes), in = dofs3(fresh);
     // C_n Z_o and the coupling of the old unknowns with Z_n are independent: one task each, and the
-    // products and solves below in column chunks (column_chunks.hpp: bit for bit the single Eigen
-    // call; chunks of other widths changed the last bits, and those armadillo_splitting's fragments).
-    Matrix Son, Sno(kn, ko);
+    // products and solves below in column chunks (column_chunks.hpp).
+    Matrix Son, Sno;
     tbb::parallel_invoke([&] { Son = y_block(cr, io, in) - coupling_c_times(sys, cr, old.dof_nodes, Zn); },
-                         [&] {
-                             for_column_chunks(ko, [&](Eigen::Index c0, Eigen::Index w) {
-                                 const std::vector<Eigen::Index> cols(io.begin() + c0, io.begin() + c0 + w);
-                                 Sno.middleCols(c0, w) = y_block(cr, in, cols) - cn.C * old.Z.middleCols(c0, w);
-                             });
-                         });
+                         [&] { Sno = y_minus_product(cr, in, io, cn.C, old.Z); });
     Son = 0.5 * (Son + Sno.transpose());
-    Matrix Snn(kn, kn);
-    for_column_chunks(kn, [&](Eigen::Index c0, Eigen::Index w) {
-        const std::vector<Eigen::Index> cols(in.begin() + c0, in.begin() + c0 + w);
-        Snn.middleCols(c0, w) = y_block(cr, in, cols) - cn.C * Zn.middleCols(c0, w);
-    });
+    Matrix Snn = y_minus_product(cr, in, in, cn.C, Zn);
     Snn = 0.5 * (Snn + Snn.transpose()).eval();
     Matrix LnoT(ko, kn);
     for_column_chunks(kn, [&](Eigen::Index c0, Eigen::Index w) {
@@ -544,11 +547,7 @@ void factor_schur(const SurfaceSystem& sys, const CrackOperators& cr, const TipB
     const CrackCoupling c = coupling(sys, cr, schur.dof_nodes);
     schur.Z = solve_matrix(sys, c.B);
     const auto ic = dofs3(schur.dof_nodes);
-    Matrix S(ic.size(), ic.size());
-    for_column_chunks(S.cols(), [&](Eigen::Index c0, Eigen::Index w) {  // column_chunks.hpp
-        const std::vector<Eigen::Index> cols(ic.begin() + c0, ic.begin() + c0 + w);
-        S.middleCols(c0, w) = y_block(cr, ic, cols) - c.C * schur.Z.middleCols(c0, w);
-    });
+    Matrix S = y_minus_product(cr, ic, ic, c.C, schur.Z);
     S = 0.5 * (S + S.transpose()).eval();
     Eigen::LLT<Matrix> llt(S);
     require(llt.info() == Eigen::Success, "crack Schur complement (eq. 4.3) is not positive definite; check crack orientation");

@@ -276,14 +276,6 @@ struct TipRules {
     }
 };
 
-// One point pair's kernel values: 1/r and d_i d_j / r^3 (xx, yy, zz | xy, xz, yz, 0).
-__attribute__((always_inline)) inline void kernel_lanes(const Vec3& d, Lanes4& k0, Lanes4& k1) {
-    const double r2 = d.squaredNorm();
-    const double ri = 1.0 / std::sqrt(r2);
-    const double r3 = ri * ri * ri;
-    k0 = Lanes4{ri, r3 * d.x() * d.x(), r3 * d.y() * d.y(), r3 * d.z() * d.z()};
-    k1 = Lanes4{r3 * d.x() * d.y(), r3 * d.x() * d.z(), r3 * d.y() * d.z(), 0.0};
-}
 // One point pair: adds w fa_i fb_j k to the sums.
 __attribute__((always_inline)) inline void accumulate(const double* fa, const double* fb, double w, const Lanes4& k0,
                                                       const Lanes4& k1, TipSums& out) {
@@ -308,44 +300,43 @@ void scale_sums(const ElementGeometry& a, const ElementGeometry& b, TipSums& out
     for (double& v : out.SK) v *= scale;
 }
 
-// One point's values on one side of a touching pair: its position, weights (weights_at) and psi.
-struct SidePoint {
-    Vec3 x;
-    double f[max_weights];
-    std::array<double, 3> psi;
-};
-void scalar_point(const ElementGeometry& g, const TipElementKind& k, const int* perm, double s, double t, SidePoint& out) {
-    // Reordered local (s, t) -> barycentric in the element's own order -> its (s, t).
-    double l[3];
-    l[perm[0]] = 1 - s - t;
-    l[perm[1]] = s;
-    l[perm[2]] = t;
-    const TipPoint P = tip_point_inline(g, k, l[1], l[2]);
-    out.x = P.x;
-    weights_at(k, P, out.f);
-    out.psi = P.psi;
-}
-
-// Four points of one side at once, for plain, edge and vertex elements: each lane runs tip_point_inline's
-// and weights_at's IEEE operations in their order (no FMA: isa_clones.hpp), so every value is the one
-// the scalar code gives bit for bit; only the divisions and square roots, the touching pairs' bottleneck,
-// are issued four at a time.
+// Four points of one side of a touching pair at once: positions, weights (weights_at) and psi per lane.
 struct SidePoints4 {
     Lanes4 x[3];
-    Lanes4 f[4];  // weight_count <= 4 for these kinds
+    Lanes4 f[max_weights];
     Lanes4 psi[3];
 };
 // Lane by lane (by reference: returning a 32-byte vector changes its ABI without AVX, -Wpsabi).
 __attribute__((always_inline)) inline void lanes_sqrt(const Lanes4& v, Lanes4& r) {
     for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
 }
+bool four_wide(const TipElementKind& k) {
+    return k.type == TipElementKind::plain || k.type == TipElementKind::edge || k.type == TipElementKind::vertex;
+}
+// Plain, edge and vertex elements (four_wide): each lane runs tip_point_inline's and weights_at's IEEE
+// operations in their order (no FMA: isa_clones.hpp), so every value is the one the scalar code gives
+// bit for bit; only the divisions and square roots, the touching pairs' bottleneck, are issued four at
+// a time. Other kinds (general, zero: sheet corners, rare) go through tip_point_inline lane by lane.
+// s, t: the four points' local coordinates in the pair's reordered frame.
 __attribute__((always_inline)) inline void side_points4(const ElementGeometry& g, const TipElementKind& k, const int* perm,
                                                         const double* s, const double* t, SidePoints4& out) {
     Lanes4 l[3];
     const Lanes4 S = CF_LOAD4(s), T = CF_LOAD4(t);
+    // Reordered local (s, t) -> barycentric in the element's own order -> its (s, t).
     l[perm[0]] = 1 - S - T;
     l[perm[1]] = S;
     l[perm[2]] = T;
+    if (!four_wide(k)) {
+        for (int lane = 0; lane < 4; ++lane) {
+            const TipPoint P = tip_point_inline(g, k, l[1][lane], l[2][lane]);
+            double f[max_weights];
+            weights_at(k, P, f);
+            for (int c = 0; c < 3; ++c) out.x[c][lane] = P.x[c];
+            for (int i = 0; i < weight_count(k); ++i) out.f[i][lane] = f[i];
+            for (int i = 0; i < 3; ++i) out.psi[i][lane] = P.psi[i];
+        }
+        return;
+    }
     // tip_point_inline takes (s, t) = (l[1], l[2]) and forms l[0] = 1 - s - t again.
     const Lanes4 l0 = 1 - l[1] - l[2];
     const Lanes4 L[3] = {l0, l[1], l[2]};
@@ -375,72 +366,51 @@ __attribute__((always_inline)) inline void side_points4(const ElementGeometry& g
         }
 }
 
-// Touching pairs: a Sauter-Schwab rule in reordered local coordinates.
+// Touching pairs: a Sauter-Schwab rule in reordered local coordinates, four points at a time (a last
+// partial batch padded with copies of its last point, which are not summed); the sums take the points
+// one by one in the rule's order.
 CF_AVX2_CLONE
 void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa, const ElementGeometry& b,
                const TipElementKind& kb, const int* pb, const PairRule& r, bool want_k, TipSums& out) {
-    auto four_wide = [](const TipElementKind& k) {
-        return k.type == TipElementKind::plain || k.type == TipElementKind::edge || k.type == TipElementKind::vertex;
-    };
     const std::size_t Q = r.size();
-    const bool batched = four_wide(ka) && four_wide(kb);
-    const std::size_t Q4 = batched ? Q / 4 * 4 : 0;
-    // The points in batches of four (values into lane order), then the rest one by one; the sums take
-    // them in the rule's order either way.
-    SidePoints4 A4, B4;
-    SidePoint A, B;
+    SidePoints4 A, B;
     for (std::size_t q0 = 0; q0 < Q; q0 += 4) {
-        const bool four = q0 < Q4;
-        Lanes4 k0s[4], k1s[4];
-        if (four) {
-            side_points4(a, ka, pa, &r.sx[q0], &r.tx[q0], A4);
-            side_points4(b, kb, pb, &r.sy[q0], &r.ty[q0], B4);
-            const Lanes4 dx = A4.x[0] - B4.x[0], dy = A4.x[1] - B4.x[1], dz = A4.x[2] - B4.x[2];
-            const Lanes4 r2 = dx * dx + dy * dy + dz * dz;  // Eigen's squaredNorm order
-            Lanes4 r;
-            lanes_sqrt(r2, r);
-            const Lanes4 ri = 1.0 / r;
-            const Lanes4 r3 = ri * ri * ri;
-            const Lanes4 xx = r3 * dx * dx, yy = r3 * dy * dy, zz = r3 * dz * dz, xy = r3 * dx * dy, xz = r3 * dx * dz,
-                         yz = r3 * dy * dz;
+        const std::size_t n = std::min<std::size_t>(4, Q - q0);
+        double pad[4][4];  // sx, tx, sy, ty of a last partial batch
+        const double *sx = &r.sx[q0], *tx = &r.tx[q0], *sy = &r.sy[q0], *ty = &r.ty[q0];
+        if (n < 4) {
             for (int lane = 0; lane < 4; ++lane) {
-                k0s[lane] = Lanes4{ri[lane], xx[lane], yy[lane], zz[lane]};
-                k1s[lane] = Lanes4{xy[lane], xz[lane], yz[lane], 0.0};
+                const std::size_t q = q0 + std::min<std::size_t>(lane, n - 1);
+                pad[0][lane] = r.sx[q];
+                pad[1][lane] = r.tx[q];
+                pad[2][lane] = r.sy[q];
+                pad[3][lane] = r.ty[q];
             }
+            sx = pad[0], tx = pad[1], sy = pad[2], ty = pad[3];
         }
-        const std::size_t n = four ? 4 : std::min<std::size_t>(4, Q - q0);
+        side_points4(a, ka, pa, sx, tx, A);
+        side_points4(b, kb, pb, sy, ty, B);
+        const Lanes4 dx = A.x[0] - B.x[0], dy = A.x[1] - B.x[1], dz = A.x[2] - B.x[2];
+        const Lanes4 r2 = dx * dx + dy * dy + dz * dz;  // Eigen's squaredNorm order
+        Lanes4 rr;
+        lanes_sqrt(r2, rr);
+        const Lanes4 ri = 1.0 / rr;
+        const Lanes4 r3 = ri * ri * ri;
+        // 1/r and d_i d_j / r^3 (xx, yy, zz | xy, xz, yz, 0), as accumulate takes them.
+        const Lanes4 xx = r3 * dx * dx, yy = r3 * dy * dy, zz = r3 * dz * dz, xy = r3 * dx * dy, xz = r3 * dx * dz,
+                     yz = r3 * dy * dz;
         for (std::size_t lane = 0; lane < n; ++lane) {
             const std::size_t q = q0 + lane;
             if (r.w[q] == 0) continue;
-            const double* fa;
-            const double* fb;
-            double fa4[4], fb4[4];
-            Vec3 d;
-            Lanes4 k0, k1;
-            if (four) {
-                for (int i = 0; i < 4; ++i) {
-                    fa4[i] = A4.f[i][lane];
-                    fb4[i] = B4.f[i][lane];
-                }
-                fa = fa4;
-                fb = fb4;
-                d = Vec3(A4.x[0][lane] - B4.x[0][lane], A4.x[1][lane] - B4.x[1][lane], A4.x[2][lane] - B4.x[2][lane]);
-                k0 = k0s[lane];
-                k1 = k1s[lane];
-            } else {
-                scalar_point(a, ka, pa, r.sx[q], r.tx[q], A);
-                scalar_point(b, kb, pb, r.sy[q], r.ty[q], B);
-                fa = A.f;
-                fb = B.f;
-                d = A.x - B.x;
-                kernel_lanes(d, k0, k1);
-            }
-            accumulate(fa, fb, r.w[q], k0, k1, out);
+            double fa[max_weights], fb[max_weights];
+            for (int i = 0; i < out.na; ++i) fa[i] = A.f[i][lane];
+            for (int j = 0; j < out.nb; ++j) fb[j] = B.f[j][lane];
+            accumulate(fa, fb, r.w[q], Lanes4{ri[lane], xx[lane], yy[lane], zz[lane]}, Lanes4{xy[lane], xz[lane], yz[lane], 0.0},
+                       out);
             if (want_k) {
-                const std::array<double, 3> psi_b =
-                    four ? std::array<double, 3>{B4.psi[0][lane], B4.psi[1][lane], B4.psi[2][lane]} : B.psi;
+                const Vec3 d(dx[lane], dy[lane], dz[lane]);
                 const double f = r.w[q] * d.dot(b.normal) / (d.squaredNorm() * d.norm());
-                for (int j = 0; j < 3; ++j) out.SK[j] += f * psi_b[j];
+                for (int j = 0; j < 3; ++j) out.SK[j] += f * B.psi[j][lane];
             }
         }
     }
@@ -970,17 +940,18 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     // When p1 extends the blocks of the step before, every element kept its place (the leading
     // elements are checked equal), so a kept pair needs only its kinds compared.
     const bool from_previous = old && extends(p1, *previous);
-    // The pairs (b, a) of each touched element b, a ascending, listed on a task per b from its own cursor
-    // into old->pairs (its keys are sorted too), then joined in b's order: the sorted list one pass over
-    // all b gave (touched elements x crack elements entries: 300 k a step in cube_compressive, a serial
-    // pass of shared-pointer copies before).
+    // The pairs (b, a) of each touched element b, a ascending, in b's order: the sorted list. Touched
+    // b = touched[t] owns every a but the touched ones above it, so its entries start at a known offset
+    // and each b's are written in place on its own task, from its own cursor into old->pairs (sorted the
+    // same way): 300 k entries a step in cube_compressive, a serial pass of shared-pointer copies before.
     using PairEntry = std::pair<std::pair<int, int>, std::shared_ptr<const TipCache::Pair>>;
-    std::vector<std::vector<PairEntry>> pairs_of(touched.size());
+    std::vector<std::size_t> first_pair(touched.size() + 1, 0);
+    for (std::size_t t = 0; t < touched.size(); ++t) first_pair[t + 1] = first_pair[t] + gc.size() - (touched.size() - 1 - t);
+    cache->pairs.resize(first_pair.back());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched.size(), 8), [&](const tbb::blocked_range<std::size_t>& rg) {
         for (std::size_t t = rg.begin(); t != rg.end(); ++t) {
             const int b = touched[t];
-            std::vector<PairEntry>& list = pairs_of[t];
-            list.reserve(gc.size());
+            std::size_t out = first_pair[t];
             std::size_t cursor = 0;
             if (old)
                 cursor = std::size_t(std::lower_bound(old->pairs.begin(), old->pairs.end(), std::pair<int, int>(b, 0),
@@ -1001,20 +972,12 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
                         (from_previous || (same_place(Place(was[std::size_t(a)]), gc[a]) && same_place(Place(was[std::size_t(b)]), gc[b]))))
                         kept = old->pairs[cursor].second;
                 }
-                list.emplace_back(key, std::move(kept));
+                cache->pairs[out++] = PairEntry(key, std::move(kept));
             }
         }
     });
-    std::size_t total_pairs = 0;
-    for (const auto& list : pairs_of) total_pairs += list.size();
-    cache->pairs.reserve(total_pairs);
-    for (auto& list : pairs_of) {
-        for (auto& entry : list) {
-            if (!entry.second) fresh_pairs.push_back(cache->pairs.size());
-            cache->pairs.push_back(std::move(entry));
-        }
-        std::vector<PairEntry>().swap(list);
-    }
+    for (std::size_t q = 0; q < cache->pairs.size(); ++q)
+        if (!cache->pairs[q].second) fresh_pairs.push_back(q);
     // The kept corrections: 9 columns of W and X per touched element, 81 numbers per crack pair.
     const double cache_bytes = 8.0 * (9.0 * double(touched.size()) * 3.0 * double(surface.geometry.size() + surface.mesh.num_vertices()) +
                                       81.0 * double(cache->pairs.size()));
