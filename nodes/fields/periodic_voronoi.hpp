@@ -30,10 +30,21 @@ public:
     double boundary_distance(const Vec3& p) const;
 
 private:
+    // Calls f(i) for every image i in the buckets overlapping the ball of `radius` around c (a
+    // superset of the images within it; each image once).
+    template <class F>
+    void images_near(const Vec3& c, double radius, F&& f) const;
+    std::size_t nearest_image(const Vec3& q, double& d0) const;
+
     double tile_;
     std::vector<Vec3> seeds_;
     std::vector<Vec3> images_;      // all seeds shifted by {-1,0,1}^3 tiles
     std::vector<int> image_seed_;   // seed index of each image
+    // The images bucketed by a uniform grid of `buckets_`^3 cells over [-tile, 2 tile)^3 (about one
+    // image per cell): queries look at the images near a point instead of all 27 x grains.
+    int buckets_ = 0;
+    double bucket_size_ = 0;
+    std::vector<std::uint32_t> bucket_start_, bucket_images_;
 };
 
 }  // namespace cf

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <fstream>
 #include <random>
 
@@ -147,6 +149,57 @@ TEST(PeriodicVoronoi, TwentySevenImagesAgreeWithBruteForce) {
             if (k != k0)
                 d = std::min(d, ((img[k] - p).squaredNorm() - (img[k0] - p).squaredNorm()) / (2 * (img[k] - img[k0]).norm()));
         EXPECT_NEAR(v.boundary_distance(p), d, 1e-14);
+    }
+}
+
+// boundary_distance and grain_of look only at the images bucketed near the point and skip images
+// whose bisector is provably beyond the best so far; the results must be the plain loop's over all
+// 27 x grains images to the bit (the plain loop as it was written: the images in the same order,
+// the nearest the first of equals, every plane evaluated in order).
+TEST(PeriodicVoronoi, BucketedQueriesAreThePlainLoopsToTheBit) {
+    for (const int grains : {8, 64, 300}) {
+        const double T = 0.037;
+        const PeriodicVoronoi v(T, grains, 5 + grains);
+        std::vector<Vec3> img;
+        for (int i = -1; i <= 1; ++i)
+            for (int j = -1; j <= 1; ++j)
+                for (int k = -1; k <= 1; ++k)
+                    for (const Vec3& s : v.seeds()) img.push_back(s + T * Vec3(i, j, k));
+        auto plain = [&](const Vec3& p) {
+            const Vec3 q = v.wrap(p);
+            std::size_t nearest = 0;
+            double d0 = 1e300;
+            for (std::size_t i = 0; i < img.size(); ++i)
+                if ((img[i] - q).squaredNorm() < d0) {
+                    d0 = (img[i] - q).squaredNorm();
+                    nearest = i;
+                }
+            double best = std::numeric_limits<double>::infinity();
+            for (std::size_t i = 0; i < img.size(); ++i)
+                if (i != nearest)
+                    best = std::min(best, ((img[i] - q).squaredNorm() - d0) / (2 * (img[i] - img[nearest]).norm()));
+            return std::make_pair(std::max(best, 0.0), int(nearest % v.seeds().size()));
+        };
+        std::mt19937 rng(grains);
+        std::uniform_real_distribution<double> u(-0.5 * T, 1.5 * T);
+        std::vector<Vec3> points;
+        for (int n = 0; n < 3000; ++n) points.emplace_back(u(rng), u(rng), u(rng));
+        const std::vector<Vec3>& s = v.seeds();
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            points.push_back(s[i]);                                      // at a seed: |q - s0| = 0
+            points.push_back(0.5 * (s[i] + s[(i + 1) % s.size()]));     // on or near a bisector
+            points.push_back(s[i] + Vec3(T, 0, -T));                     // another image of it
+        }
+        for (int n = 0; n < 200; ++n) points.push_back(Vec3(0, u(rng), T * (n % 2)));  // on the tile's faces
+        int differ = 0;
+        for (const Vec3& p : points) {
+            const double a = v.boundary_distance(p);
+            const auto [b, grain] = plain(p);
+            if ((std::memcmp(&a, &b, sizeof a) != 0 || v.grain_of(p) != grain) && ++differ <= 5)
+                ADD_FAILURE() << grains << " grains, p = " << p.transpose() << ": " << a << " vs " << b << ", grain "
+                              << v.grain_of(p) << " vs " << grain;
+        }
+        EXPECT_EQ(differ, 0) << grains << " grains";
     }
 }
 
