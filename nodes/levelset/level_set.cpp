@@ -335,8 +335,60 @@ GridDifference compare_grids(const LevelSet& a, const LevelSet& b, double tolera
     return d;
 }
 
+double level_set_volume_openvdb(const LevelSet& ls) { return openvdb::tools::levelSetVolume(grid_of(ls), true); }
+
 double level_set_volume(const LevelSet& ls) {
-    return openvdb::tools::levelSetVolume(grid_of(ls), true);
+    const openvdb::FloatGrid& g = grid_of(ls);
+    // OpenVDB's levelSetVolume (LevelSetMeasure) in the same arithmetic, step for step, without the
+    // area it computes alongside and with the six neighbours of a voxel read from its leaf's buffer
+    // instead of through a stencil's accessor (a third of levelset.from_mesh's time went there):
+    // per leaf, sum over the active voxels within 1.5 voxels of the surface of
+    // delta(phi) (x . grad phi), the leaf sums sorted and added, / 3 (the divergence theorem).
+    // Grids it would refuse go to it for its error.
+    if (!g.hasUniformVoxels() || g.getGridClass() != openvdb::GRID_LEVEL_SET || g.empty())
+        return openvdb::tools::levelSetVolume(g, true);
+    using LeafT = openvdb::FloatTree::LeafNodeType;
+    std::vector<const LeafT*> leaves;
+    leaves.reserve(g.tree().leafCount());
+    for (auto it = g.tree().cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
+    const double dx = g.voxelSize()[0], inv_dx = 1.0 / dx;
+    const float inv_2dx = float(0.5 / dx);                    // GradStencil's mInv2Dx
+    const double eps = 1.5, c = 0.5 / eps, d = 2 * openvdb::math::pi<double>() * c;  // DiracDelta(1.5)
+    std::vector<double> sums(leaves.size(), 0.0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> acc(g.tree());
+        for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            const LeafT& leaf = *leaves[l];
+            const float* v = leaf.buffer().data();
+            const openvdb::Coord o = leaf.origin();
+            double sum = 0;
+            for (auto it = leaf.cbeginValueOn(); it; ++it) {
+                const openvdb::Index off = it.pos();
+                const double phi = inv_dx * v[off];
+                const double dd = std::abs(phi) > eps ? 0 : c * (1 + std::cos(d * phi));
+                if (!(dd > 0.0)) continue;
+                const int x = int(off >> 6), y = int((off >> 3) & 7), z = int(off & 7);
+                const openvdb::Coord p(o[0] + x, o[1] + y, o[2] + z);
+                // GradStencil's central differences: the neighbour from this leaf where it lies in it.
+                auto neighbour = [&](int axis, int q, int step) -> float {
+                    static constexpr int kStride[3] = {64, 8, 1};
+                    if (q + step >= 0 && q + step < 8) return v[int(off) + step * kStride[axis]];
+                    openvdb::Coord n = p;
+                    n[axis] += step;
+                    return acc.getValue(n);
+                };
+                const float gx = (neighbour(0, x, 1) - neighbour(0, x, -1)) * inv_2dx;
+                const float gy = (neighbour(1, y, 1) - neighbour(1, y, -1)) * inv_2dx;
+                const float gz = (neighbour(2, z, 1) - neighbour(2, z, -1)) * inv_2dx;
+                sum += dd * (gx * double(p[0]) + gy * double(p[1]) + gz * double(p[2]));
+            }
+            sums[l] = sum;
+        }
+    });
+    std::sort(sums.begin(), sums.end());  // as LevelSetMeasure: sorted, then added in order
+    double total = 0.0;
+    for (const double x : sums) total += x;
+    return total / 3.0 * openvdb::math::Pow3(dx);
 }
 
 double sample(const LevelSet& ls, const Vec3& p) {

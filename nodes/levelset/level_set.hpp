@@ -59,8 +59,11 @@ struct GridDifference {
 };
 GridDifference compare_grids(const LevelSet& a, const LevelSet& b, double tolerance = 0, std::size_t max_listed = 0);
 
-// Enclosed volume [m^3] measured on the grid (OpenVDB LevelSetMeasure).
+// Enclosed volume [m^3] measured on the grid: OpenVDB's LevelSetMeasure volume (the divergence
+// theorem with a smeared delta function), computed the same way to the bit but faster.
 double level_set_volume(const LevelSet& ls);
+// Independent reference: openvdb::tools::levelSetVolume itself (used by tests).
+double level_set_volume_openvdb(const LevelSet& ls);
 // Trilinear value [m] and gradient (central differences of the trilinear field) at a point.
 double sample(const LevelSet& ls, const Vec3& p);
 

@@ -9,7 +9,7 @@
 namespace cf::testing {
 
 template <class Make>
-LevelSet with_threads(int threads, Make&& make) {
+auto with_threads(int threads, Make&& make) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     return make();
 }
