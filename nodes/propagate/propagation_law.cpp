@@ -97,7 +97,12 @@ namespace {
 // four times the evaluation's rounding error. By monotonicity the comparison at any midpoint on a's far
 // side (towards inside) then comes out "above", and on b's far side "below": those halvings take their
 // side without evaluating K_theta (about 35 of 47; a marker's sub-step evaluated K_theta ~190 times).
-double crossing(double KI, double KII, double K_c, double inside, double outside) {
+// The certified bracket: K_theta(a) > K_c and K_theta(b) < K_c beyond rounding, or the interval's own
+// ends where that fails.
+struct Bracket {
+    double a, b;
+};
+Bracket certify(double KI, double KII, double K_c, double inside, double outside) {
     const double dir = inside > outside ? 1.0 : -1.0;  // from the crossing towards inside
     // |fl(K_theta) - K_theta|: sine and cosine within an ulp, then up to seven roundings (generous).
     const double err = 64 * std::numeric_limits<double>::epsilon() * (std::abs(KI) + 3 * std::abs(KII));
@@ -130,6 +135,15 @@ double crossing(double KI, double KII, double K_c, double inside, double outside
             }
         }
     }
+    return {a, b};
+}
+
+// The halvings, each taking the certified side where the bracket decides it. The result lies
+// strictly beyond b (mids at or beyond b are "below") and within 1e-14 of a or short of it (mids at
+// or beyond a are "above", and the halvings stop at a width of 1e-14).
+double bisect(double KI, double KII, double K_c, double inside, double outside, const Bracket& br) {
+    const double dir = inside > outside ? 1.0 : -1.0;
+    const double a = br.a, b = br.b;
     for (int it = 0; it < 200 && std::abs(outside - inside) > 1e-14; ++it) {
         const double mid = 0.5 * (inside + outside);
         bool above;
@@ -139,6 +153,10 @@ double crossing(double KI, double KII, double K_c, double inside, double outside
         (above ? inside : outside) = mid;
     }
     return inside;
+}
+
+double crossing(double KI, double KII, double K_c, double inside, double outside) {
+    return bisect(KI, KII, K_c, inside, outside, certify(KI, KII, K_c, inside, outside));
 }
 
 }  // namespace
@@ -159,6 +177,64 @@ AngleInterval valid_interval(double K_I_III, double KII, double K_c) {
     return I;
 }
 
+LazyAngleInterval::LazyAngleInterval(double K_I_III, double KII, double K_c) : KI_(K_I_III), KII_(KII), Kc_(K_c) {
+    const double opt = kink_angle(K_I_III, KII);
+    for (End& e : ends_) e.value = e.lower = e.upper = opt;
+    if (!(ktheta(K_I_III, KII, opt) > K_c)) return;
+    empty_ = false;
+    // As valid_interval: an end at +-90 degrees where K_theta still exceeds K_c there, else the
+    // crossing, bracketed now and bisected when asked for.
+    const double limit = 0.5 * kPi;
+    for (int i = 0; i < 2; ++i) {
+        End& e = ends_[i];
+        const double outside = i == 0 ? -limit : limit;
+        if (ktheta(K_I_III, KII, outside) > K_c) {
+            e.value = e.lower = e.upper = outside;
+            continue;
+        }
+        e.known = false;
+        e.inside = opt;
+        e.outside = outside;
+        const Bracket br = certify(K_I_III, KII, K_c, opt, outside);
+        e.a = br.a;
+        e.b = br.b;
+        // bisect's result lies between b and a (within 1e-14 beyond a): 1e-13 of slack.
+        e.lower = std::min(br.a, br.b) - 1e-13;
+        e.upper = std::max(br.a, br.b) + 1e-13;
+    }
+}
+
+double LazyAngleInterval::end(int i) {
+    End& e = ends_[i];
+    if (!e.known) {
+        e.value = bisect(KI_, KII_, Kc_, e.inside, e.outside, Bracket{e.a, e.b});
+        e.known = true;
+    }
+    return e.value;
+}
+
+double steered_blended_angle(double theta_opt, LazyAngleInterval& cur, LazyAngleInterval& old, bool turned, double turn,
+                             double w_t, const GradientDirection& g, double r_c, double K_c) {
+    if (cur.empty() || !(K_c > 0) || g.r == 0) return theta_opt;
+    // An end of the blended interval, eq. (4.12), from the ends of the two: nondecreasing in both
+    // (w_t in [0, 1]; rounding is monotone), so bounds on theirs bound it.
+    const bool both = !old.empty();
+    auto blended = [&](double c, double o) { return both ? blend_angle(turned ? o + turn : o, c, w_t) : c; };
+    auto exact = [&](int i) { return blended(cur.end(i), both ? old.end(i) : 0.0); };
+    const double lo_min = blended(cur.lower(0), both ? old.lower(0) : 0.0);
+    const double lo_max = blended(cur.upper(0), both ? old.upper(0) : 0.0);
+    const double hi_min = blended(cur.lower(1), both ? old.lower(1) : 0.0);
+    const double hi_max = blended(cur.upper(1), both ? old.upper(1) : 0.0);
+    // std::clamp(v, lo, hi) as steered_angle takes it, with only the ends it returns computed.
+    const double v = g.theta;
+    double toward;
+    if (v < lo_min) toward = exact(0);
+    else if (v > hi_max) toward = exact(1);
+    else if (v >= lo_max && v <= hi_min) toward = v;
+    else toward = std::clamp(v, exact(0), exact(1));
+    return steered_towards(theta_opt, toward, g, r_c, K_c);
+}
+
 double blend_angle(double theta_old, double theta_new, double w_t) { return w_t * theta_new + (1 - w_t) * theta_old; }
 
 double blend_weight(int k, int n) {
@@ -174,11 +250,15 @@ GradientDirection gradient_direction(const Vec3& grad_Kc, const Vec3& n1, const 
     return g;
 }
 
+double steered_towards(double theta_opt, double toward_weaker, const GradientDirection& g, double r_c, double K_c) {
+    const double w = 1 / (1 + g.r * r_c / K_c);
+    return w * theta_opt + (1 - w) * toward_weaker;
+}
+
 double steered_angle(double theta_opt, const AngleInterval& valid, const GradientDirection& g, double r_c, double K_c) {
     if (valid.empty || !(K_c > 0) || g.r == 0) return theta_opt;
     const double toward_weaker = std::clamp(g.theta, valid.lo, valid.hi);  // argmin over I of |theta - theta_grad|
-    const double w = 1 / (1 + g.r * r_c / K_c);
-    return w * theta_opt + (1 - w) * toward_weaker;
+    return steered_towards(theta_opt, toward_weaker, g, r_c, K_c);
 }
 
 Vec3 front_velocity(double speed, double theta, const Vec3& n1, const Vec3& n2) {

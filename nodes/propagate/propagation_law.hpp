@@ -90,6 +90,40 @@ GradientDirection gradient_direction(const Vec3& grad_Kc, const Vec3& n1, const 
 // theta_grad, blended with the smoothed optimum by w = 1 / (1 + r_grad r_c / K_c).
 // With an empty interval or K_c <= 0 the optimum is returned unchanged.
 double steered_angle(double theta_opt, const AngleInterval& valid, const GradientDirection& g, double r_c, double K_c);
+// Its last step: w theta_opt + (1 - w) toward_weaker, w = 1 / (1 + r_grad r_c / K_c).
+double steered_towards(double theta_opt, double toward_weaker, const GradientDirection& g, double r_c, double K_c);
+
+// valid_interval with each end's bisection (~10 evaluations of K_theta after the bracket) left
+// until the end is asked for; until then bounds certified around it are known. Eq. (4.14) clamps
+// the gradient's direction to the interval and so needs at most one end, and none where the
+// direction lies clearly inside: steered_blended_angle asks only for those.
+class LazyAngleInterval {
+public:
+    LazyAngleInterval() = default;  // empty
+    LazyAngleInterval(double K_I_III, double KII, double K_c);
+    bool empty() const { return empty_; }
+    // End i (0: lo, 1: hi) lies in [lower(i), upper(i)]; end(i) is valid_interval's, to the bit.
+    double lower(int i) const { return ends_[i].lower; }
+    double upper(int i) const { return ends_[i].upper; }
+    double end(int i);
+
+private:
+    struct End {
+        bool known = true;
+        double value = 0, lower = 0, upper = 0;
+        double inside = 0, outside = 0, a = 0, b = 0;  // the bisection still to run
+    };
+    double KI_ = 0, KII_ = 0, Kc_ = 0;
+    bool empty_ = true;
+    End ends_[2];
+};
+
+// steered_angle of eq. (4.14) over eq. (4.12)'s blended valid interval, the same double as
+// computing both intervals in full: the interval is cur's when old is empty, else
+// blend_angle(old end (+ turn when `turned`), cur end, w_t) per end. `old` may be `cur` itself
+// (no old interval: the current one stands in for it, as marker_substep does).
+double steered_blended_angle(double theta_opt, LazyAngleInterval& cur, LazyAngleInterval& old, bool turned, double turn,
+                             double w_t, const GradientDirection& g, double r_c, double K_c);
 
 // Velocity of a front point, eq. (4.11): v (sin(theta) n1 + cos(theta) n2).
 Vec3 front_velocity(double speed, double theta, const Vec3& n1, const Vec3& n2);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace cf::propagate {
@@ -167,6 +168,66 @@ TEST(ValidInterval, CertifiedHalvingsGiveThePlainBisectionsEnds) {
         crossings += !want.empty;
     }
     EXPECT_GT(crossings, 10000);
+}
+
+// steered_blended_angle bisects an interval end only where eq. (4.14)'s clamp returns it: its angle
+// must be the one from both intervals in full (valid_interval, blended per end as marker_substep
+// does, steered_angle), to the bit. Gradient directions are drawn across the whole circle, at the
+// ends themselves and within 1e-12 of them (the bounds' undecided zone), old intervals present or
+// standing in (the current one), turned or not, w_t at 0, 1 and in between.
+TEST(ValidInterval, LazyEndsSteerAsTheFullIntervals) {
+    auto ktheta = [](double KI, double KII, double t) {
+        const double c = std::cos(t / 2), s = std::sin(t / 2);
+        return KI * c * c * c - 3 * KII * c * c * s;
+    };
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> u(0, 1);
+    auto loading = [&](int i, double& K, double& KII, double& Kc) {
+        const double scale = std::pow(10.0, 5 + 2 * u(rng));
+        K = scale * u(rng);
+        KII = scale * (2 * u(rng) - 1) * (i % 7 == 0 ? 1e-6 : 1);
+        const double top = ktheta(K, KII, kink_angle(K, KII));
+        Kc = top * (i % 5 == 0 ? 1 - 1e-9 * u(rng) : 0.05 + u(rng));
+    };
+    int lazy_skipped = 0, compared = 0;
+    for (int i = 0; i < 20000; ++i) {
+        double K, KII, Kc, Ko, KIIo, Kco;
+        loading(i, K, KII, Kc);
+        loading(i + 1, Ko, KIIo, Kco);
+        if (!(Kc > 0)) continue;
+        const bool has_old = i % 3 != 0, turned = i % 2 == 0;
+        const double turn = 0.3 * (u(rng) - 0.5);
+        const double w_t = i % 4 == 0 ? 0.0 : i % 4 == 1 ? 1.0 : u(rng);
+        // Full intervals, blended as marker_substep did before.
+        const AngleInterval cur = valid_interval(K, KII, Kc);
+        AngleInterval old = has_old ? valid_interval(Ko, KIIo, Kc) : cur;
+        if (has_old && turned && !old.empty) {
+            old.lo += turn;
+            old.hi += turn;
+        }
+        AngleInterval valid = cur;
+        if (!cur.empty && !old.empty) {
+            valid.lo = blend_angle(old.lo, cur.lo, w_t);
+            valid.hi = blend_angle(old.hi, cur.hi, w_t);
+        }
+        const double pick = u(rng);
+        double theta = kPi * (2 * u(rng) - 1);
+        if (pick < 0.3) theta = u(rng) < 0.5 ? valid.lo : valid.hi;
+        else if (pick < 0.6) theta = (u(rng) < 0.5 ? valid.lo : valid.hi) + 1e-12 * (2 * u(rng) - 1);
+        const GradientDirection g{theta, 1e6 * u(rng) + 1};
+        const double theta_opt = 0.2 * (u(rng) - 0.5);
+        const double want = steered_angle(theta_opt, valid, g, 0.01, Kc);
+        LazyAngleInterval lc(K, KII, Kc), lo_old(Ko, KIIo, Kc);
+        LazyAngleInterval& lold = has_old ? lo_old : lc;
+        const double got = steered_blended_angle(theta_opt, lc, lold, has_old && turned && !lold.empty(), turn, w_t, g, 0.01, Kc);
+        ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+            << "i " << i << ": " << got << " vs " << want << " (K " << K << ", K_II " << KII << ", K_c " << Kc << ")";
+        ++compared;
+        // Where the direction is far inside, no end was bisected.
+        if (!cur.empty && theta > valid.lo + 1e-3 && theta < valid.hi - 1e-3) ++lazy_skipped;
+    }
+    EXPECT_GT(compared, 15000);
+    EXPECT_GT(lazy_skipped, 1000);
 }
 
 TEST(ValidInterval, NeverReachesBackwards) {
