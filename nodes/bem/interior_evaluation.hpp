@@ -21,6 +21,9 @@ namespace cf::bem {
 struct InteriorQuadrature {
     double leaf_ratio = 1.5;  // subdivide while distance < leaf_ratio * longest edge
     int max_depth = 14;       // subdivision levels at most (2^-14 h is the closest resolved distance)
+    // The gradient's kernel terms four rule points at a time (the same bits as one at a time, which
+    // false selects: the reference the tests compare with).
+    bool four_points_at_a_time = true;
 };
 
 // Displacement [m] at points strictly inside the body. `include_cracks` adds the crack term.

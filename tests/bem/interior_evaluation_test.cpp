@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <iostream>
 
 using namespace cf;
@@ -189,6 +190,42 @@ TEST(BemInterior, PennyCrackAverageDisplacementAndJump) {
     std::cout << "penny: max |u(+eps) - u(-eps) - [u]| " << ejump << ", max |normal average - u_c . n| " << eavg << "\n";
     EXPECT_LT(ejump, 1e-3 * cod_max);
     EXPECT_LT(eavg, 1e-3 * cod_max);
+}
+
+// The gradient's kernel terms four rule points at a time give the one-at-a-time sums to the bit:
+// a solved penny crack in a cube (surface tractions and displacements, crack openings), points far
+// from and close to the surface and the sheet (every leaf rule: 6 points, 4 x 4 and 6 x 6, so full
+// and partial batches of four, and deep subdivision), with and without the crack term.
+TEST(BemInterior, GradientFourPointsAtATimeIsThePointByPointSum) {
+    const PennyRun run = run_penny_crack(5, 3);
+    const BemSolution& sol = *run.solution;
+    std::vector<Vec3> points;
+    for (int i = 0; i < 40; ++i) {
+        const double t = (i + 0.5) / 40;
+        points.emplace_back(0.9 * std::cos(7 * t) * t, 0.8 * std::sin(5 * t) * t, 0.02 + 0.9 * (t - 0.5));  // through the body
+    }
+    // Near a face of the cube and near the sheet (the sheet is z = 0 inside radius 1).
+    const double face = sol.surface->mesh.vertices[0].cwiseAbs().maxCoeff();
+    for (const double gap : {1e-1, 1e-2, 1e-3, 1e-4}) {
+        points.emplace_back(0.3, -0.2, face - gap);
+        points.emplace_back(0.25, 0.1, gap);
+    }
+    for (const bool cracks : {true, false}) {
+        InteriorQuadrature one;
+        one.four_points_at_a_time = false;
+        const std::vector<Mat3> want = interior_displacement_gradient(sol, points, cracks, one);
+        const std::vector<Mat3> got = interior_displacement_gradient(sol, points, cracks);
+        ASSERT_EQ(got.size(), want.size());
+        for (std::size_t i = 0; i < got.size(); ++i)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_EQ(std::memcmp(&got[i](r, c), &want[i](r, c), sizeof(double)), 0)
+                        << "point " << points[i].transpose() << " (" << r << ", " << c << "): " << got[i](r, c) << " vs "
+                        << want[i](r, c) << (cracks ? ", with" : ", without") << " the crack term";
+        double largest = 0;
+        for (const Mat3& g : want) largest = std::max(largest, max_abs(g));
+        EXPECT_GT(largest, 0);
+    }
 }
 
 TEST(BemInterior, PointsOnSheetsOrSurfaceAreRejectedOrTraced) {
