@@ -20,7 +20,9 @@ inline void write_real(std::ostream& os, double v) {
 // "C" locale write them (to_chars), so the bytes are the same.
 class TextOut {
 public:
-    explicit TextOut(std::ostream& os) : os_(os) { buf_.reserve(kFlushAt + 256); }
+    explicit TextOut(std::ostream& os) : os_(&os) { buf_.reserve(kFlushAt + 256); }
+    // Text appended to `into` instead (a piece formatted on its own task, written later in order).
+    explicit TextOut(std::string& into) : into_(&into) { buf_.reserve(kFlushAt + 256); }
     ~TextOut() { flush(); }
     TextOut(const TextOut&) = delete;
     TextOut& operator=(const TextOut&) = delete;
@@ -38,8 +40,19 @@ public:
     TextOut& operator<<(long v) { return number(v); }
     TextOut& operator<<(unsigned long v) { return number(v); }
     void flush() {
-        os_.write(buf_.data(), std::streamsize(buf_.size()));
+        if (os_) os_->write(buf_.data(), std::streamsize(buf_.size()));
+        else into_->append(buf_);
         buf_.clear();
+    }
+    // Text already formatted, passed on as it is after what came before.
+    void write_formatted(std::string_view s) {
+        if (!os_) {
+            buf_.append(s);
+            may_flush();
+            return;
+        }
+        flush();
+        os_->write(s.data(), std::streamsize(s.size()));
     }
 
 private:
@@ -55,7 +68,8 @@ private:
         if (buf_.size() >= kFlushAt) flush();
         return *this;
     }
-    std::ostream& os_;
+    std::ostream* os_ = nullptr;
+    std::string* into_ = nullptr;
     std::string buf_;
 };
 

@@ -3,6 +3,9 @@
 #include "nodes/export/mesh_writers.hpp"
 #include "nodes/export/number_text.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -48,6 +51,21 @@ std::vector<std::array<int, 3>> indexed_corners(const std::vector<std::array<V, 
     return out;
 }
 
+// The lines of items [0, count), each written by `line`, formatted in pieces on parallel tasks
+// (oneTBB) and passed to `out` in order: the bytes of one pass (a fragment's OBJ is tens of MB of
+// numbers, its writing serial after the mesh was made).
+template <class Line>
+void in_pieces(TextOut& out, std::size_t count, Line&& line) {
+    constexpr std::size_t kPiece = 16384;
+    const std::size_t pieces = (count + kPiece - 1) / kPiece;
+    std::vector<std::string> text(pieces);
+    tbb::parallel_for(std::size_t(0), pieces, [&](std::size_t p) {
+        TextOut o(text[p]);
+        for (std::size_t i = p * kPiece; i < std::min(count, (p + 1) * kPiece); ++i) line(o, i);
+    });
+    for (const std::string& s : text) out.write_formatted(s);
+}
+
 }  // namespace
 
 void write_obj(std::ostream& os, const SurfaceMesh& m) { write_obj(os, m, ""); }
@@ -57,11 +75,11 @@ void write_obj(std::ostream& os, const SurfaceMesh& m, const std::string& mtllib
     TextOut out(os);
     out << "# crackflow surface mesh: " << m.num_vertices() << " vertices, " << m.num_triangles() << " triangles\n";
     if (!mtllib.empty()) out << "mtllib " << mtllib << '\n';
-    for (const Vec3& p : m.vertices) {
-        out << "v ";
-        write_point(out, p);
-        out << '\n';
-    }
+    in_pieces(out, m.vertices.size(), [&](TextOut& o, std::size_t v) {
+        o << "v ";
+        write_point(o, m.vertices[v]);
+        o << '\n';
+    });
     std::vector<Vec2> uvs;
     std::vector<Vec3> normals;
     const auto uv_index = m.has_uv() ? indexed_corners(m.corner_uv, uvs) : std::vector<std::array<int, 3>>{};
@@ -74,23 +92,22 @@ void write_obj(std::ostream& os, const SurfaceMesh& m, const std::string& mtllib
     }
     // Regions become OBJ groups (and materials of the same name when there is a material library),
     // started whenever the region changes (face order is kept).
-    int group = -1;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        if (m.region_of(t) != group) {
-            group = m.region_of(t);
-            out << "g " << m.region_name(group) << '\n';
-            if (!mtllib.empty()) out << "usemtl " << m.region_name(group) << '\n';
+    in_pieces(out, m.triangles.size(), [&](TextOut& o, std::size_t t) {
+        if (t == 0 || m.region_of(t) != m.region_of(t - 1)) {
+            const int group = m.region_of(t);
+            o << "g " << m.region_name(group) << '\n';
+            if (!mtllib.empty()) o << "usemtl " << m.region_name(group) << '\n';
         }
         const Tri& f = m.triangles[t];
-        out << 'f';
+        o << 'f';
         for (int k = 0; k < 3; ++k) {
-            out << ' ' << f[k] + 1;
-            if (!uv_index.empty() || !n_index.empty()) out << '/';
-            if (!uv_index.empty()) out << uv_index[t][k];
-            if (!n_index.empty()) out << '/' << n_index[t][k];
+            o << ' ' << f[k] + 1;
+            if (!uv_index.empty() || !n_index.empty()) o << '/';
+            if (!uv_index.empty()) o << uv_index[t][k];
+            if (!n_index.empty()) o << '/' << n_index[t][k];
         }
-        out << '\n';
-    }
+        o << '\n';
+    });
 }
 
 void write_mtl(std::ostream& os, const std::vector<std::pair<std::string, Vec3>>& materials) {

@@ -61,8 +61,8 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
     if (f.fragments.empty()) throw std::invalid_argument("there are no fragments to export");
     FragmentExportResult res;
     // Meshes (one task per fragment, each writing its own file) and the VDB are independent: they
-    // run concurrently; the preview draws the meshes after them. Per-fragment figures are summed in
-    // fragment order.
+    // run concurrently; the preview draws the meshes once the last is made, while the last files are
+    // still being written. Per-fragment figures are summed in fragment order.
     const std::size_t n = f.fragments.size();
     std::vector<std::filesystem::path> mesh_files(opt.meshes ? n : 0);
     std::vector<std::size_t> triangles(mesh_files.size(), 0);
@@ -89,6 +89,28 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
         });
     // The preview draws the undeformed meshes (the ones written, or level-set meshes when none are).
     std::vector<SurfaceMesh> preview_meshes(opt.preview ? n : 0);
+    tbb::task_group preview_task;
+    std::exception_ptr preview_error;
+    std::atomic<std::size_t> meshed{0};
+    auto render_preview = [&] {
+        try {
+            isolated([&] {
+                SheetOptions so;
+                so.width = opt.preview_options.width;
+                so.height = opt.preview_options.height;
+                so.explode = opt.preview_options.explode;
+                so.up = opt.preview_options.up;
+                so.view = opt.preview_options.view;
+                so.contact_sheet = opt.contact_sheet;
+                std::vector<Vec3> centroids;
+                for (const Fragment& g : f.fragments) centroids.push_back(g.centroid);
+                write_fragment_sheet(preview_path, preview_meshes, centroids, so);
+            });
+        } catch (...) {
+            preview_error = std::current_exception();
+        }
+    };
+    if (opt.preview) preview_path = dir / (opt.prefix + "s_preview.png");
     std::vector<std::string> warnings(n);
     std::vector<std::vector<std::pair<std::string, Vec3>>> materials(n);
     std::exception_ptr mesh_error;  // the tasks are waited for before any error leaves this function
@@ -115,7 +137,11 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
                 const std::size_t i = order[k];
                 cancel.poll();
                 SurfaceMesh m = mesher.mesh(i, &warnings[i]);
-                if (opt.preview) preview_meshes[i] = m;
+                if (opt.preview) {
+                    preview_meshes[i] = m;
+                    // The last mesh made (only one worker counts to n) starts the preview.
+                    if (++meshed == n) preview_task.run(render_preview);
+                }
                 if (!opt.meshes) continue;
                 materials[i] = fragment_materials(m, -1);
                 if (opt.deformation) opt.deformation->apply(m, &stats[i]);
@@ -132,25 +158,14 @@ FragmentExportResult export_fragments(const std::filesystem::path& dir, const Fr
     } catch (...) {
         mesh_error = std::current_exception();
     }
+    preview_task.wait();
     tasks.wait();
     if (mesh_error) std::rethrow_exception(mesh_error);
+    if (preview_error) std::rethrow_exception(preview_error);
     std::filesystem::path mtl_path;
     if (opt.meshes && opt.format == MeshFormat::Obj) {
         mtl_path = dir / (opt.prefix + "s.mtl");
         write_fragment_mtl(mtl_path, materials);
-    }
-    if (opt.preview) {
-        preview_path = dir / (opt.prefix + "s_preview.png");
-        SheetOptions so;
-        so.width = opt.preview_options.width;
-        so.height = opt.preview_options.height;
-        so.explode = opt.preview_options.explode;
-        so.up = opt.preview_options.up;
-        so.view = opt.preview_options.view;
-        so.contact_sheet = opt.contact_sheet;
-        std::vector<Vec3> centroids;
-        for (const Fragment& g : f.fragments) centroids.push_back(g.centroid);
-        write_fragment_sheet(preview_path, preview_meshes, centroids, so);
     }
     for (std::size_t i = 0; i < n; ++i)
         if (!warnings[i].empty()) {

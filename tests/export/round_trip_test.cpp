@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <charconv>
 #include <random>
 #include <sstream>
 
@@ -137,6 +138,44 @@ TEST(Writers, FileContents) {
     last >> nx >> ny >> nz;
     for (double c : {nx, ny, nz}) EXPECT_NEAR(c, 1 / std::sqrt(3.0), 1e-16);
     EXPECT_EQ(text.substr(0, 16), "solid crackflow\n");
+}
+
+// The OBJ's lines are formatted in pieces of 16384 on parallel tasks: a mesh of several pieces, with
+// groups starting right before, at and after piece boundaries and a group running across one, gives
+// the text of a plain serial loop (to_chars numbers), byte for byte.
+TEST(Writers, ObjInPiecesIsTheSerialText) {
+    SurfaceMesh m;
+    const int n = 40000;
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < n + 2; ++i) m.vertices.emplace_back(u(rng), u(rng) * 1e-3, u(rng) * 1e5);
+    for (int t = 0; t < n; ++t) m.triangles.push_back({t, t + 1, t + 2});
+    m.region_names = {"outside", "inside", "loaded"};
+    for (int t = 0; t < n; ++t) {
+        int r = (t / 1000) % 2;
+        if (t == 16383 || t == 16384 || t == 32768) r = 2;
+        if (t >= 30000 && t < 36000) r = 1;  // across the boundary at 32768 (but for its one triangle)
+        m.region.push_back(r);
+    }
+    std::ostringstream got;
+    write_obj(got, m, "frag.mtl");
+    auto num = [](auto v) {
+        char b[32];
+        return std::string(b, std::to_chars(b, b + sizeof b, v).ptr);
+    };
+    std::string want = "# crackflow surface mesh: " + num(n + 2) + " vertices, " + num(n) + " triangles\nmtllib frag.mtl\n";
+    for (const Vec3& p : m.vertices) want += "v " + num(p.x()) + " " + num(p.y()) + " " + num(p.z()) + "\n";
+    int group = -1;
+    for (int t = 0; t < n; ++t) {
+        if (m.region[std::size_t(t)] != group) {
+            group = m.region[std::size_t(t)];
+            want += "g " + m.region_names[std::size_t(group)] + "\nusemtl " + m.region_names[std::size_t(group)] + "\n";
+        }
+        const Tri& f = m.triangles[std::size_t(t)];
+        want += "f " + num(f[0] + 1) + " " + num(f[1] + 1) + " " + num(f[2] + 1) + "\n";
+    }
+    EXPECT_EQ(got.str().size(), want.size());
+    EXPECT_TRUE(got.str() == want);
 }
 
 // Corner UVs and normals: one vt / vn per distinct value (exact; -0 and +0 are one value), in order
