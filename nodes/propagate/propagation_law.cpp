@@ -97,8 +97,8 @@ namespace {
 // four times the evaluation's rounding error. By monotonicity the comparison at any midpoint on a's far
 // side (towards inside) then comes out "above", and on b's far side "below": those halvings take their
 // side without evaluating K_theta (about 35 of 47; a marker's sub-step evaluated K_theta ~190 times).
-// The certified bracket: K_theta(a) > K_c and K_theta(b) < K_c beyond rounding, or the interval's own
-// ends where that fails.
+// certify finds the bracket (K_theta(a) > K_c and K_theta(b) < K_c beyond rounding, or the interval's
+// own ends where that fails), bisect runs the halvings.
 struct Bracket {
     double a, b;
 };
@@ -155,35 +155,33 @@ double bisect(double KI, double KII, double K_c, double inside, double outside, 
     return inside;
 }
 
-double crossing(double KI, double KII, double K_c, double inside, double outside) {
-    return bisect(KI, KII, K_c, inside, outside, certify(KI, KII, K_c, inside, outside));
+// w theta_opt + (1 - w) toward_weaker, w = 1 / (1 + r_grad r_c / K_c): eq. (4.14)'s last step.
+double steered_towards(double theta_opt, double toward_weaker, const GradientDirection& g, double r_c, double K_c) {
+    const double w = 1 / (1 + g.r * r_c / K_c);
+    return w * theta_opt + (1 - w) * toward_weaker;
 }
 
 }  // namespace
 
 AngleInterval valid_interval(double K_I_III, double KII, double K_c) {
+    LazyAngleInterval lazy(K_I_III, KII, K_c);
     AngleInterval I;
-    const double opt = kink_angle(K_I_III, KII);
-    I.lo = I.hi = opt;
-    if (!(ktheta(K_I_III, KII, opt) > K_c)) return I;
-    I.empty = false;
-    // On each side of the maximum, K_theta falls monotonically to its minimum (<= 0) or to 0 at
-    // +-pi and never climbs back above 0 < K_c: one crossing per side, found by bisection.
-    // Never backwards: K_theta > K_c reaches past 90 degrees once K > 3.8 K_c (pure mode I), and
-    // a front steered that far would run back through its own faces.
-    const double limit = 0.5 * kPi;
-    I.lo = ktheta(K_I_III, KII, -limit) > K_c ? -limit : crossing(K_I_III, KII, K_c, opt, -limit);
-    I.hi = ktheta(K_I_III, KII, limit) > K_c ? limit : crossing(K_I_III, KII, K_c, opt, limit);
+    I.empty = lazy.empty();
+    I.lo = lazy.end(0);
+    I.hi = lazy.end(1);
     return I;
 }
 
 LazyAngleInterval::LazyAngleInterval(double K_I_III, double KII, double K_c) : KI_(K_I_III), KII_(KII), Kc_(K_c) {
     const double opt = kink_angle(K_I_III, KII);
-    for (End& e : ends_) e.value = e.lower = e.upper = opt;
+    for (End& e : ends_) e.value = e.lower = e.upper = opt;  // empty: lo = hi = theta*
     if (!(ktheta(K_I_III, KII, opt) > K_c)) return;
     empty_ = false;
-    // As valid_interval: an end at +-90 degrees where K_theta still exceeds K_c there, else the
-    // crossing, bracketed now and bisected when asked for.
+    // On each side of the maximum, K_theta falls monotonically to its minimum (<= 0) or to 0 at
+    // +-pi and never climbs back above 0 < K_c: one crossing per side, bracketed now and bisected
+    // when asked for. Never backwards: K_theta > K_c reaches past 90 degrees once K > 3.8 K_c (pure
+    // mode I), and a front steered that far would run back through its own faces; an end stays at
+    // +-90 degrees where K_theta still exceeds K_c there.
     const double limit = 0.5 * kPi;
     for (int i = 0; i < 2; ++i) {
         End& e = ends_[i];
@@ -248,11 +246,6 @@ GradientDirection gradient_direction(const Vec3& grad_Kc, const Vec3& n1, const 
     g.r = std::sqrt(g1 * g1 + g2 * g2);
     g.theta = g.r > 0 ? std::atan2(0.0 - g1, 0.0 - g2) : 0;  // 0.0 - x: no signed zero, backwards is +pi
     return g;
-}
-
-double steered_towards(double theta_opt, double toward_weaker, const GradientDirection& g, double r_c, double K_c) {
-    const double w = 1 / (1 + g.r * r_c / K_c);
-    return w * theta_opt + (1 - w) * toward_weaker;
 }
 
 double steered_angle(double theta_opt, const AngleInterval& valid, const GradientDirection& g, double r_c, double K_c) {

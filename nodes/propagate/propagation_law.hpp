@@ -90,8 +90,6 @@ GradientDirection gradient_direction(const Vec3& grad_Kc, const Vec3& n1, const 
 // theta_grad, blended with the smoothed optimum by w = 1 / (1 + r_grad r_c / K_c).
 // With an empty interval or K_c <= 0 the optimum is returned unchanged.
 double steered_angle(double theta_opt, const AngleInterval& valid, const GradientDirection& g, double r_c, double K_c);
-// Its last step: w theta_opt + (1 - w) toward_weaker, w = 1 / (1 + r_grad r_c / K_c).
-double steered_towards(double theta_opt, double toward_weaker, const GradientDirection& g, double r_c, double K_c);
 
 // valid_interval with each end's bisection (~10 evaluations of K_theta after the bracket) left
 // until the end is asked for; until then bounds certified around it are known. Eq. (4.14) clamps
