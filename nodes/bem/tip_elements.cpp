@@ -205,7 +205,7 @@ void weights_at(const TipElementKind& k, const TipPoint& p, double* f) {
 // Weighted kernel sums over a pair rule: S1 = sum w f g / r, SR = sum w f g d d^T / r^3 (xx, yy, zz,
 // xy, xz, yz), SK[b] = sum w psi_b(y) (x - y).n_b / r^3 (a plain). Only [0, na) x [0, nb) is used.
 // S1 and SR of a weight pair are one row of eight (S1, the six SR, and a slot that stays zero), so
-// the point loops below add all seven with two four-wide operations; each entry still gets the same
+// the point loops below add all seven with one eight-wide operation; each entry still gets the same
 // products added in the same order as one by one.
 typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
 // An unaligned load as a statement expression (a function returning a 32-byte vector by value changes
@@ -217,16 +217,19 @@ typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
         v_;                                       \
     })
 inline double sum4(const Lanes4* v) { return ((*v)[0] + (*v)[1]) + ((*v)[2] + (*v)[3]); }
+// One weight pair's row of eight: S1, the six SR and a slot that stays zero (one AVX-512 register,
+// two AVX2 ones, four SSE2 ones: the same IEEE operations lane by lane in every clone).
+typedef double Lanes8 __attribute__((vector_size(8 * sizeof(double))));
 struct TipSums {
     int na = 1, nb = 1;
-    Lanes4 S[max_weights][max_weights][2];
+    Lanes8 S[max_weights][max_weights];
     double SK[3] = {};
     TipSums(int na_, int nb_) : na(na_), nb(nb_) {
         for (int i = 0; i < na; ++i)
-            for (int j = 0; j < nb; ++j) S[i][j][0] = S[i][j][1] = Lanes4{};
+            for (int j = 0; j < nb; ++j) S[i][j] = Lanes8{};
     }
-    double S1(int i, int j) const { return S[i][j][0][0]; }
-    const double* SR(int i, int j) const { return reinterpret_cast<const double*>(&S[i][j][0]) + 1; }
+    double S1(int i, int j) const { return S[i][j][0]; }
+    const double* SR(int i, int j) const { return reinterpret_cast<const double*>(&S[i][j]) + 1; }
 };
 
 // Separated pairs (tip_triangle_rule on edge and vertex elements, measured against 14 x 14 graded
@@ -277,15 +280,14 @@ struct TipRules {
 };
 
 // One point pair: adds w fa_i fb_j k to the sums.
-__attribute__((always_inline)) inline void accumulate(const double* fa, const double* fb, double w, const Lanes4& k0,
-                                                      const Lanes4& k1, TipSums& out) {
+__attribute__((always_inline)) inline void accumulate(const double* fa, const double* fb, double w, const Lanes8& k,
+                                                      TipSums& out) {
     for (int i = 0; i < out.na; ++i) {
         const double wi = w * fa[i];
         if (wi == 0) continue;
         for (int j = 0; j < out.nb; ++j) {
             const double v = wi * fb[j];
-            out.S[i][j][0] += v * k0;
-            out.S[i][j][1] += v * k1;
+            out.S[i][j] += v * k;
         }
     }
 }
@@ -293,10 +295,7 @@ __attribute__((always_inline)) inline void accumulate(const double* fa, const do
 void scale_sums(const ElementGeometry& a, const ElementGeometry& b, TipSums& out) {
     const double scale = 4 * a.area * b.area;
     for (int i = 0; i < out.na; ++i)
-        for (int j = 0; j < out.nb; ++j) {
-            out.S[i][j][0] *= scale;
-            out.S[i][j][1] *= scale;
-        }
+        for (int j = 0; j < out.nb; ++j) out.S[i][j] *= scale;
     for (double& v : out.SK) v *= scale;
 }
 
@@ -369,7 +368,7 @@ __attribute__((always_inline)) inline void side_points4(const ElementGeometry& g
 // Touching pairs: a Sauter-Schwab rule in reordered local coordinates, four points at a time (a last
 // partial batch padded with copies of its last point, which are not summed); the sums take the points
 // one by one in the rule's order.
-CF_AVX2_CLONE
+CF_AVX512_CLONE
 void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa, const ElementGeometry& b,
                const TipElementKind& kb, const int* pb, const PairRule& r, bool want_k, TipSums& out) {
     const std::size_t Q = r.size();
@@ -405,8 +404,8 @@ void integrate(const ElementGeometry& a, const TipElementKind& ka, const int* pa
             double fa[max_weights], fb[max_weights];
             for (int i = 0; i < out.na; ++i) fa[i] = A.f[i][lane];
             for (int j = 0; j < out.nb; ++j) fb[j] = B.f[j][lane];
-            accumulate(fa, fb, r.w[q], Lanes4{ri[lane], xx[lane], yy[lane], zz[lane]}, Lanes4{xy[lane], xz[lane], yz[lane], 0.0},
-                       out);
+            const Lanes8 k = {ri[lane], xx[lane], yy[lane], zz[lane], xy[lane], xz[lane], yz[lane], 0.0};
+            accumulate(fa, fb, r.w[q], k, out);
             if (want_k) {
                 const Vec3 d(dx[lane], dy[lane], dz[lane]);
                 const double f = r.w[q] * d.dot(b.normal) / (d.squaredNorm() * d.norm());
@@ -454,7 +453,7 @@ void side_points(const ElementGeometry& g, const TipElementKind& k, const Triang
         for (int j = 0; j < 3; ++j) out.wpsi[j * Qp + q] = r.w[q] * P.psi[j];
     }
 }
-CF_AVX2_CLONE
+CF_AVX512_CLONE
 void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, const TriangleRule& ra, const ElementGeometry& b,
                          const TipElementKind& kb, const TriangleRule& rb, bool want_k, TipSums& out) {
     // The last side evaluated is kept (a surface loop pairs one crack element with every surface element).
@@ -508,7 +507,7 @@ void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, con
                                  r3 * (dx * nbx + dy * nby + dz * nbz)};
             for (int m = 0; m < 8; ++m) std::memcpy(k + m * Qp + q, &v[m], sizeof(Lanes4));
         }
-        Lanes4 t[max_weights][2];
+        Lanes8 t[max_weights];
         for (int j = 0; j < nb; ++j) {
             const double* wf = &B.wf[j * Qp];
             Lanes4 acc[7] = {};
@@ -516,16 +515,13 @@ void integrate_separated(const ElementGeometry& a, const TipElementKind& ka, con
                 const Lanes4 w = CF_LOAD4(wf + q);
                 for (int m = 0; m < 7; ++m) acc[m] += w * CF_LOAD4(k + m * Qp + q);
             }
-            t[j][0] = Lanes4{sum4(&acc[0]), sum4(&acc[1]), sum4(&acc[2]), sum4(&acc[3])};
-            t[j][1] = Lanes4{sum4(&acc[4]), sum4(&acc[5]), sum4(&acc[6]), 0.0};
+            t[j] = Lanes8{sum4(&acc[0]), sum4(&acc[1]), sum4(&acc[2]), sum4(&acc[3]),
+                          sum4(&acc[4]), sum4(&acc[5]), sum4(&acc[6]), 0.0};
         }
         for (int i = 0; i < na; ++i) {
             const double c = A.w[p] * A.f[p * na + i];
             if (c == 0) continue;
-            for (int j = 0; j < nb; ++j) {
-                out.S[i][j][0] += c * t[j][0];
-                out.S[i][j][1] += c * t[j][1];
-            }
+            for (int j = 0; j < nb; ++j) out.S[i][j] += c * t[j];
         }
         if (want_k) {
             const double* kn = k + 7 * Qp;

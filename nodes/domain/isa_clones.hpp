@@ -6,6 +6,9 @@
 // order, only on wider registers and with three-operand instructions: it does not enable FMA
 // (contracting a*b+c changes rounding), so both clones give bit-identical results and a run's output
 // does not depend on the machine's ISA level.
+// CF_AVX512_CLONE: the same with an x86-64-v4 (AVX-512) clone besides. That level has FMA, so a file
+// using it must be compiled with -ffp-contract=off (its CMakeLists says so): then no clone contracts,
+// and the three give the same bits.
 // CF_ISA_LEVEL_CLONES: the x86-64-v4, v3 and baseline levels, FMA included from v3 on (results may
 // differ in the last bits between machines; pair_integrals.cpp's kernel, older, uses it).
 //
@@ -13,8 +16,10 @@
 // before TSan's runtime is set up, and its instrumentation crashes the process at start.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(__SANITIZE_THREAD__)
 #define CF_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
+#define CF_AVX512_CLONE __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #define CF_ISA_LEVEL_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define CF_AVX2_CLONE
+#define CF_AVX512_CLONE
 #define CF_ISA_LEVEL_CLONES
 #endif
