@@ -121,7 +121,7 @@ std::vector<PendingElement> pending_elements(const SurfaceMesh& cracks, const st
 // element order afterwards, so the result does not depend on threads.
 void integrate_pending(const SurfaceOperators& surface, const std::vector<PendingElement>& pending, EstimatedGrowth& out) {
     const std::size_t Ms = surface.geometry.size();
-    const PairQuadrature quad(surface.options.quadrature);
+    const PairQuadrature& quad = shared_pair_quadrature(surface.options.quadrature);
     const ElasticConstants ec = surface.elastic;
     std::vector<std::array<Vec3, 3>> node_part(Ms);
     const CancelToken cancel = CancelToken::current();  // every 256 pairs (a few milliseconds)

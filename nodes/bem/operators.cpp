@@ -132,7 +132,7 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
     out->geometry = element_geometries(mesh, "BEM surface mesh");
     const auto& g = out->geometry;
     const Eigen::Index M = static_cast<Eigen::Index>(g.size()), N = static_cast<Eigen::Index>(mesh.num_vertices());
-    const PairQuadrature quad(options.quadrature);
+    const PairQuadrature& quad = shared_pair_quadrature(options.quadrature);
     const ElasticConstants ec = out->elastic;
     // Every 3x3 block (a, b), a <= b, of V is assigned once and the rest mirrored: no zeroing needed.
     if (options.single_layer) out->V.resize(3 * M, 3 * M);
@@ -225,7 +225,7 @@ void grow_block(Matrix& m, const Matrix* old, Eigen::Index rows, Eigen::Index co
 class CrackElementColumns {
 public:
     CrackElementColumns(const SurfaceOperators& surface, CrackOperators& out)
-        : gs_(surface.geometry), gc_(out.geometry), quad_(surface.options.quadrature), ec_(surface.elastic), W_(out.W),
+        : gs_(surface.geometry), gc_(out.geometry), quad_(shared_pair_quadrature(surface.options.quadrature)), ec_(surface.elastic), W_(out.W),
           X_(out.X), HY_(out.HY) {}
 
     void operator()(int b) const {
@@ -253,7 +253,7 @@ public:
 private:
     const std::vector<ElementGeometry>& gs_;
     const std::vector<ElementGeometry>& gc_;
-    const PairQuadrature quad_;
+    const PairQuadrature& quad_;
     const ElasticConstants ec_;
     Matrix& W_;
     Matrix& X_;

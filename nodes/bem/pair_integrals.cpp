@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
+#include <mutex>
 
 namespace cf::bem {
 
@@ -50,6 +52,19 @@ PairQuadrature::PairQuadrature(const QuadratureSettings& s) : settings_(s) {
         vert_fold_ = padded(sauter_schwab_rule(PairKind::common_vertex, s.fold_order));
     }
     for (int z = 0; z < num_regular_zones; ++z) zones_[z] = tensor_pair_rule(regular_zone_rule(z));
+}
+
+const PairQuadrature& shared_pair_quadrature(const QuadratureSettings& s) {
+    static std::mutex mutex;
+    static std::deque<PairQuadrature> built;  // a deque never moves its elements
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const PairQuadrature& q : built) {
+        const QuadratureSettings& t = q.settings();
+        if (t.singular_order == s.singular_order && t.farfield_boost == s.farfield_boost && t.fixed_regular == s.fixed_regular &&
+            t.fold_angle == s.fold_angle && t.fold_order == s.fold_order)
+            return q;
+    }
+    return built.emplace_back(s);
 }
 
 double separation_ratio(const ElementGeometry& a, const ElementGeometry& b) {

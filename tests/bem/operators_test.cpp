@@ -9,6 +9,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <random>
 
@@ -73,6 +74,40 @@ TEST(BemQuadrature, FarFieldZonesGrowWithProximity) {
     }
     EXPECT_EQ(regular_zone_rule(regular_zone(20, 0)).size(), 3u);
     EXPECT_EQ(regular_zone_rule(regular_zone(2, 0)).size(), 16u);
+}
+
+TEST(BemQuadrature, SharedRulesAreTheRulesOfTheirSettings) {
+    // Equal settings share one set of rules, from any thread; their pair integrals are those of rules
+    // built afresh, bit for bit; other settings get rules of their own.
+    const QuadratureSettings s;  // production: order 5, fold rules of order 10 beyond 60 degrees
+    QuadratureSettings other = s;
+    other.fold_angle = 45;
+    std::vector<const PairQuadrature*> seen(16, nullptr);
+    tbb::parallel_for(0, 16, [&](int i) { seen[std::size_t(i)] = &shared_pair_quadrature(i % 2 ? s : other); });
+    for (int i = 0; i < 16; ++i) EXPECT_EQ(seen[std::size_t(i)], i % 2 ? &shared_pair_quadrature(s) : &shared_pair_quadrature(other));
+    EXPECT_NE(&shared_pair_quadrature(s), &shared_pair_quadrature(other));
+    EXPECT_EQ(shared_pair_quadrature(other).settings().fold_angle, 45);
+    // Folds of 20 and 50 degrees at edge 0-1 (fold rules under s; the 50-degree one not under
+    // `other`), a flatter edge neighbour, a vertex neighbour and separated pairs.
+    SurfaceMesh m;
+    m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.3, 0.9, 0), Vec3(0.5, -0.8, 0.3), Vec3(0.4, 0.2, 0.3),
+                  Vec3(1.6, 0.1, 0), Vec3(1.2, 0.8, 0.1), Vec3(4, 0, 0), Vec3(4.5, 0.5, 0), Vec3(4, 1, 1),
+                  Vec3(0.4, std::cos(50 * M_PI / 180), std::sin(50 * M_PI / 180))};
+    m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {1, 5, 6}, {7, 8, 9}, {1, 0, 10}};
+    {
+        const ElementGeometry g0 = element_geometry(m, 0), g5 = element_geometry(m, 5);
+        const PairIntegrals x = pair_integrals(g0, g5, true, shared_pair_quadrature(s));
+        const PairIntegrals y = pair_integrals(g0, g5, true, shared_pair_quadrature(other));
+        EXPECT_NE(std::memcmp(&x, &y, sizeof x), 0) << "the 50-degree fold takes other rules under each setting";
+    }
+    const PairQuadrature fresh(s);
+    for (std::size_t a = 0; a < m.triangles.size(); ++a)
+        for (std::size_t b = 0; b < m.triangles.size(); ++b) {
+            const ElementGeometry ga = element_geometry(m, a), gb = element_geometry(m, b);
+            const PairIntegrals x = pair_integrals(ga, gb, true, shared_pair_quadrature(s));
+            const PairIntegrals y = pair_integrals(ga, gb, true, fresh);
+            EXPECT_EQ(std::memcmp(&x, &y, sizeof x), 0) << a << ", " << b;
+        }
 }
 
 TEST(BemQuadrature, IdenticalPairOfUnitRightTriangleMatchesClosedForm) {
