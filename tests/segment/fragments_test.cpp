@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 namespace cf {
@@ -86,6 +87,61 @@ TEST(Fragments, LevelSetMeshesTellFractureFacesFromTheObjectsSurface) {
     SurfaceMesh m = FragmentMesher(whole, FragmentMesherOptions{}).mesh(0);
     EXPECT_THROW(tag_fracture_faces(m, obj, 0), std::invalid_argument);
     EXPECT_THROW(tag_fracture_faces(m, obj, std::nan("")), std::invalid_argument);
+}
+
+// tag_fracture_faces reorders in chunks on parallel tasks: the result is one serial pass's order
+// (outside faces first, then inside ones, each in its old order, with their UVs and normals), here
+// for 200 000 faces (7 chunks) whose depth changes in runs of random length across chunk borders.
+TEST(Fragments, FractureFacesReorderedAsOneSerialPass) {
+    const LevelSet obj = cube();
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-0.45, 0.45);
+    SurfaceMesh m;
+    const std::size_t n = 200000;
+    bool deep = false;
+    std::size_t run = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+        if (run == 0) {
+            deep = !deep;
+            run = 1 + std::size_t(rng() % 50000);
+        }
+        --run;
+        // A small triangle around a point deep inside (|x| < 0.3) or on the surface (x = 0.5).
+        const Vec3 c(deep ? 0.6 * u(rng) : 0.5, u(rng), u(rng));
+        const int v = int(m.vertices.size());
+        m.vertices.insert(m.vertices.end(), {c + Vec3(1e-3, 0, 0), c + Vec3(0, 1e-3, 0), c + Vec3(0, 0, 1e-3)});
+        m.triangles.push_back({v, v + 1, v + 2});
+        m.corner_uv.push_back({Vec2(double(t), 0), Vec2(0, double(t)), Vec2(1, 1)});
+        m.corner_normal.push_back({Vec3(double(t), 0, 0), Vec3::UnitY(), Vec3::UnitZ()});
+    }
+    std::vector<Vec3> centroids;
+    for (std::size_t t = 0; t < n; ++t) centroids.push_back(triangle_centroid(m, t));
+    const std::vector<double> phi = sample_points(obj, centroids);
+    SurfaceMesh expected = m;
+    expected.triangles.clear();
+    expected.corner_uv.clear();
+    expected.corner_normal.clear();
+    for (int pass = 0; pass < 2; ++pass)
+        for (std::size_t t = 0; t < n; ++t)
+            if ((phi[t] < -kRf) == (pass == 1)) {
+                expected.triangles.push_back(m.triangles[t]);
+                expected.corner_uv.push_back(m.corner_uv[t]);
+                expected.corner_normal.push_back(m.corner_normal[t]);
+            }
+    const std::size_t outside = std::size_t(std::count_if(phi.begin(), phi.end(), [](double p) { return !(p < -kRf); }));
+    ASSERT_GT(outside, n / 4);
+    ASSERT_LT(outside, 3 * n / 4);
+    for (int threads : {1, 2}) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+        SurfaceMesh got = m;
+        tag_fracture_faces(got, obj, kRf);
+        EXPECT_TRUE(got.triangles == expected.triangles) << threads << " threads";
+        EXPECT_TRUE(got.corner_uv == expected.corner_uv) << threads << " threads";
+        EXPECT_TRUE(got.corner_normal == expected.corner_normal) << threads << " threads";
+        ASSERT_EQ(got.region.size(), n);
+        EXPECT_EQ(std::size_t(std::count(got.region.begin(), got.region.end(), 0)), outside);
+        EXPECT_TRUE(std::is_sorted(got.region.begin(), got.region.end()));
+    }
 }
 
 TEST(Fragments, PlanarCutVolumesCentroidsAndBoxesMatchTheHalves) {
