@@ -115,9 +115,26 @@ TEST(PolledCsg, DeepCopyEqualsDeepCopy) {
     FloatGrid::Ptr cavity = sphere(0.2f, {-0.1f, 0, 0}, 0.005f);
     openvdb::tools::csgDifference(*g, *cavity);
     g->setName("object");
+    // Tiles at every level: 8^3 tiles in a lower node, 128^3 ones in an upper node and a 4096^3 one
+    // in the root, active and inactive, and an inactive voxel with a value of its own.
+    g->tree().addTile(1, openvdb::Coord(640, 0, 0), -0.25f, true);
+    g->tree().addTile(1, openvdb::Coord(640, 8, 0), 0.25f, false);
+    g->tree().addTile(2, openvdb::Coord(8192, 0, 0), -0.5f, true);
+    g->tree().addTile(2, openvdb::Coord(8192, 128, 0), 0.5f, false);
+    g->tree().addTile(3, openvdb::Coord(-16384, 0, 0), -1.0f, true);
+    g->tree().setValueOff(openvdb::Coord(0, 0, 100), 0.125f);
     const FloatGrid::Ptr ref = g->deepCopy();
     const FloatGrid::Ptr ours = deep_copy_polled(*g, CancelToken(&never));
     testing::expect_bit_identical(*ours, *ref);
+    // Every value, voxel or tile, on or off, in the same order, at the same level.
+    std::size_t values = 0, differing = 0;
+    auto a = ours->cbeginValueAll();
+    for (auto b = ref->cbeginValueAll(); b; ++b, ++a, ++values)
+        if (!a || a.getCoord() != b.getCoord() || a.getDepth() != b.getDepth() || *a != *b || a.isValueOn() != b.isValueOn())
+            ++differing;
+    EXPECT_FALSE(bool(a)) << "more values than deepCopy's";
+    EXPECT_EQ(differing, 0u) << "of " << values;
+    EXPECT_EQ(ours->tree().nodeCount(), ref->tree().nodeCount());
     EXPECT_EQ(ours->tree().nonLeafCount(), ref->tree().nonLeafCount());
     EXPECT_EQ(ours->tree().activeTileCount(), ref->tree().activeTileCount());
     EXPECT_EQ(ours->getName(), "object");
