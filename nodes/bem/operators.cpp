@@ -225,8 +225,8 @@ void grow_block(Matrix& m, const Matrix* old, Eigen::Index rows, Eigen::Index co
 class CrackElementColumns {
 public:
     CrackElementColumns(const SurfaceOperators& surface, CrackOperators& out)
-        : gs_(surface.geometry), gc_(out.geometry), quad_(shared_pair_quadrature(surface.options.quadrature)), ec_(surface.elastic), W_(out.W),
-          X_(out.X), HY_(out.HY) {}
+        : gs_(surface.geometry), gc_(out.geometry), quad_(shared_pair_quadrature(surface.options.quadrature)),
+          ec_(surface.elastic), W_(out.W), X_(out.X), HY_(out.HY) {}
 
     void operator()(int b) const {
         const ElementGeometry& gb = gc_[b];

@@ -6,7 +6,7 @@
 // order, only on wider registers and with three-operand instructions: it does not enable FMA
 // (contracting a*b+c changes rounding), so both clones give bit-identical results and a run's output
 // does not depend on the machine's ISA level.
-// CF_AVX512_CLONE: the same with an x86-64-v4 (AVX-512) clone besides. That level has FMA, so a file
+// CF_AVX512_CLONE: the same with an x86-64-v4 (AVX-512) clone beside them. That level has FMA, so a file
 // using it must be compiled with -ffp-contract=off (its CMakeLists says so): then no clone contracts,
 // and the three give the same bits.
 // CF_ISA_LEVEL_CLONES: the x86-64-v4, v3 and baseline levels, FMA included from v3 on (results may
