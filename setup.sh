@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(cmake ninja-build g++ pkg-config
+PACKAGES=(cmake ninja-build g++ pkg-config binutils  # binutils: nm/objdump for Build.NoFmaInExactAvx512Clones
           libeigen3-dev libopenvdb-dev libboost-iostreams-dev libtbb-dev libyaml-cpp-dev libcli11-dev libjemalloc-dev
           libcgal-dev libcgal-demo libgmp-dev libmpfr-dev libbullet-dev libpng-dev
           libgtest-dev libgmock-dev libbenchmark-dev

@@ -86,8 +86,7 @@ void add_point(const Kernel& k, const Source& s, const Vec3& d, const Vec3& bary
 // the same order as add_point's Eigen expressions (coefficient-wise; outer products are products of
 // coefficients, the identity's off-diagonal zeros included), then added to the sums point by point in
 // the rule's order. The results are add_point's to the bit; the 27 divisions per point, which bound
-// the stress evaluation, run four wide (neither clone uses FMA, nodes/domain/isa_clones.hpp).
-typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
+// the stress evaluation, run four wide (Lanes4; neither clone uses FMA, nodes/domain/isa_clones.hpp).
 
 CF_AVX2_CLONE
 void add_gradient_points(const Kernel& k, const Source& s, const Vec3& x, const std::array<Vec3, 3>& B, double area,

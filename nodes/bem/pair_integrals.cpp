@@ -78,34 +78,33 @@ namespace {
 // g = {c(3), A1(3), A2(3), B1(3), B2(3), n_a(3), n_b(3)}. out = {I1, Rxx, Ryy, Rzz, Rxy, Rxz, Ryz,
 // sum fb, sum fb sy, sum fb ty, sum fa, sum fa sx, sum fa tx} with fb = w d.n_b / r^3 and
 // fa = -w d.n_a / r^3 (unscaled by the areas). n is a multiple of pair_rule_padding.
-// Eight lanes of GCC vector extensions: the compiler lowers them to SSE2, AVX2 or AVX-512 and the
+// Eight lanes (Lanes8) of GCC vector extensions: the compiler lowers them to SSE2, AVX2 or AVX-512 and the
 // function is cloned per ISA level (chosen at load time), so no -march flag is needed. Each lane
 // accumulates its own points and the lanes are summed in a fixed order at the end, so the result
 // does not depend on the thread count.
-typedef double Lanes __attribute__((vector_size(8 * sizeof(double))));
 static_assert(pair_rule_padding == 8, "pair_rule_padding must equal the kernel's lane count");
 
 CF_ISA_LEVEL_CLONES  // nodes/domain/isa_clones.hpp
 void pair_kernel(const double* sx, const double* tx, const double* sy, const double* ty, const double* w, std::size_t n,
                  const double* g, double* out) {
-    Lanes i1 = {}, rxx = {}, ryy = {}, rzz = {}, rxy = {}, rxz = {}, ryz = {};
-    Lanes kb = {}, kbs = {}, kbt = {}, ka = {}, kas = {}, kat = {};
+    Lanes8 i1 = {}, rxx = {}, ryy = {}, rzz = {}, rxy = {}, rxz = {}, ryz = {};
+    Lanes8 kb = {}, kbs = {}, kbt = {}, ka = {}, kas = {}, kat = {};
     for (std::size_t q = 0; q < n; q += 8) {
-        Lanes s1, t1, s2, t2, W;
+        Lanes8 s1, t1, s2, t2, W;
         std::memcpy(&s1, sx + q, sizeof s1);
         std::memcpy(&t1, tx + q, sizeof t1);
         std::memcpy(&s2, sy + q, sizeof s2);
         std::memcpy(&t2, ty + q, sizeof t2);
         std::memcpy(&W, w + q, sizeof W);
-        const Lanes dx = g[0] + s1 * g[3] + t1 * g[6] - s2 * g[9] - t2 * g[12];
-        const Lanes dy = g[1] + s1 * g[4] + t1 * g[7] - s2 * g[10] - t2 * g[13];
-        const Lanes dz = g[2] + s1 * g[5] + t1 * g[8] - s2 * g[11] - t2 * g[14];
-        const Lanes r2 = dx * dx + dy * dy + dz * dz;
-        Lanes r;
+        const Lanes8 dx = g[0] + s1 * g[3] + t1 * g[6] - s2 * g[9] - t2 * g[12];
+        const Lanes8 dy = g[1] + s1 * g[4] + t1 * g[7] - s2 * g[10] - t2 * g[13];
+        const Lanes8 dz = g[2] + s1 * g[5] + t1 * g[8] - s2 * g[11] - t2 * g[14];
+        const Lanes8 r2 = dx * dx + dy * dy + dz * dz;
+        Lanes8 r;
         for (int l = 0; l < 8; ++l) r[l] = std::sqrt(r2[l]);  // vectorised (-fno-math-errno)
-        const Lanes ri = 1.0 / r;
-        const Lanes wi = W * ri;
-        const Lanes w3 = wi * ri * ri;
+        const Lanes8 ri = 1.0 / r;
+        const Lanes8 wi = W * ri;
+        const Lanes8 w3 = wi * ri * ri;
         i1 += wi;
         rxx += w3 * dx * dx;
         ryy += w3 * dy * dy;
@@ -113,8 +112,8 @@ void pair_kernel(const double* sx, const double* tx, const double* sy, const dou
         rxy += w3 * dx * dy;
         rxz += w3 * dx * dz;
         ryz += w3 * dy * dz;
-        const Lanes fa = -w3 * (dx * g[15] + dy * g[16] + dz * g[17]);
-        const Lanes fb = w3 * (dx * g[18] + dy * g[19] + dz * g[20]);
+        const Lanes8 fa = -w3 * (dx * g[15] + dy * g[16] + dz * g[17]);
+        const Lanes8 fb = w3 * (dx * g[18] + dy * g[19] + dz * g[20]);
         kb += fb;
         kbs += fb * s2;
         kbt += fb * t2;
@@ -122,7 +121,7 @@ void pair_kernel(const double* sx, const double* tx, const double* sy, const dou
         kas += fa * s1;
         kat += fa * t1;
     }
-    const Lanes* acc[13] = {&i1, &rxx, &ryy, &rzz, &rxy, &rxz, &ryz, &kb, &kbs, &kbt, &ka, &kas, &kat};
+    const Lanes8* acc[13] = {&i1, &rxx, &ryy, &rzz, &rxy, &rxz, &ryz, &kb, &kbs, &kbt, &ka, &kas, &kat};
     for (int k = 0; k < 13; ++k) {
         double s = 0;
         for (int l = 0; l < 8; ++l) s += (*acc[k])[l];

@@ -209,7 +209,6 @@ void weights_at(const TipElementKind& k, const TipPoint& p, double* f) {
 // S1 and SR of a weight pair are one row of eight (S1, the six SR, and a slot that stays zero), so
 // the point loops below add all seven with one eight-wide operation; each entry still gets the same
 // products added in the same order as one by one.
-typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
 // An unaligned load as a statement expression (a function returning a 32-byte vector by value changes
 // its ABI without AVX, -Wpsabi).
 #define CF_LOAD4(p)                               \
@@ -219,9 +218,8 @@ typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
         v_;                                       \
     })
 inline double sum4(const Lanes4* v) { return ((*v)[0] + (*v)[1]) + ((*v)[2] + (*v)[3]); }
-// One weight pair's row of eight: S1, the six SR and a slot that stays zero (one AVX-512 register,
-// two AVX2 ones, four SSE2 ones: the same IEEE operations lane by lane in every clone).
-typedef double Lanes8 __attribute__((vector_size(8 * sizeof(double))));
+// One weight pair's row of eight (Lanes8): S1, the six SR and a slot that stays zero (one AVX-512
+// register, two AVX2 ones, four SSE2 ones).
 struct TipSums {
     int na = 1, nb = 1;
     Lanes8 S[max_weights][max_weights];

@@ -14,6 +14,14 @@
 //
 // Neither under ThreadSanitizer: the clone's resolver runs while the program is being relocated,
 // before TSan's runtime is set up, and its instrumentation crashes the process at start.
+// The double-precision vectors those clones compute in (GCC vector extensions, lowered to SSE2,
+// AVX2 or AVX-512 registers by each clone; element-wise IEEE operations, so every clone gives the
+// same bits). Pass them by reference: by value their ABI differs between clones (-Wpsabi).
+namespace cf {
+typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
+typedef double Lanes8 __attribute__((vector_size(8 * sizeof(double))));
+}  // namespace cf
+
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(__SANITIZE_THREAD__)
 #define CF_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
 #define CF_AVX512_CLONE __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))

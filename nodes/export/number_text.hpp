@@ -46,13 +46,9 @@ public:
     }
     // Text already formatted, passed on as it is after what came before.
     void write_formatted(std::string_view s) {
-        if (!os_) {
-            buf_.append(s);
-            may_flush();
-            return;
-        }
         flush();
-        os_->write(s.data(), std::streamsize(s.size()));
+        if (os_) os_->write(s.data(), std::streamsize(s.size()));
+        else into_->append(s);
     }
 
 private:
