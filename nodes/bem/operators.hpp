@@ -67,6 +67,7 @@ struct CrackOperators {
     std::vector<std::array<double, 3>> basis_integral;
     std::int64_t tip_pairs_computed = 0;    // element pairs integrated with the square-root basis
     std::int64_t tip_pairs_reused = 0;      // their corrections taken from the step before
+    std::int64_t tip_p1_pairs_kept = 0;     // of the computed ones, P1 blocks taken from the append (AppendedP1Blocks)
     std::shared_ptr<const struct TipCache> tip_cache;  // tip_elements.cpp
     Matrix Y() const { return HY + HY.transpose(); }
 };
@@ -86,15 +87,48 @@ void check_memory_budget(double bytes, double budget, const std::string& what);
 std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const SurfaceMesh& mesh, const Material& material,
                                                                    const AssemblyOptions& options);
 
+// P1 blocks of some of an append's new element pairs, handed to the square-root step of the same
+// assembly (tip_crack_operators), which subtracts exactly these blocks from its corrections and
+// otherwise integrates them a second time (3 % of cube_compressive's run). New element b keeps its
+// blocks against every surface element when keep[b]; the crack pair (a, b), a <= b with b new, is
+// kept when keep[a] or keep[b] (the pairs with a front element).
+struct AppendedP1Blocks {
+    struct Surface {
+        std::array<Mat3, 3> Kb;                // PairBlocks::Kb of (surface a, crack b)
+        std::array<std::array<Mat3, 3>, 3> H;  // PairBlocks::H of (surface a, crack b)
+    };
+    using Crack = std::array<std::array<Mat3, 3>, 3>;  // PairBlocks::H of (crack a, crack b), unhalved
+    std::size_t first = 0;                              // the first new element
+    std::vector<std::vector<Surface>> surface;          // [b - first][surface a], empty when not kept
+    std::vector<std::vector<std::int32_t>> crack_slot;  // [b - first][a]: index into crack[b - first], or -1
+    std::vector<std::vector<Crack>> crack;
+    // The kept blocks of (surface element a, crack element b) or of the crack pair (lo, hi), lo <= hi;
+    // null when they were not kept.
+    const Surface* surface_block(std::size_t b, std::size_t a) const {
+        if (b < first || b - first >= surface.size() || surface[b - first].empty()) return nullptr;
+        return &surface[b - first][a];
+    }
+    const Crack* crack_block(std::size_t lo, std::size_t hi) const {
+        if (hi < first || hi - first >= crack_slot.size() || lo >= crack_slot[hi - first].size()) return nullptr;
+        const std::int32_t s = crack_slot[hi - first][lo];
+        return s < 0 ? nullptr : &crack[hi - first][std::size_t(s)];
+    }
+};
+
 // Returns crack blocks for `cracks`, reusing `previous` (may be null). `cracks` must extend
 // previous->cracks: same leading vertices and triangles, new ones appended. Throws
 // std::invalid_argument when it does not, when a crack triangle is degenerate, or when a crack
 // triangle intersects the ordinary surface.
 // `memory_budget_bytes` < 0: the surface's (the budget of the assembly that made it); a loop's
-// assembly passes its own.
+// assembly passes its own. With `keep` (one flag per element of `cracks`) and `kept`, the P1 blocks
+// of the new elements' pairs described at AppendedP1Blocks are copied into `kept` as well, unless
+// they and the square-root step's copy of the blocks would not fit the budget (then `kept` stays
+// empty and the square-root step integrates them itself).
 std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
                                                             const std::shared_ptr<const CrackOperators>& previous,
-                                                            const SurfaceMesh& cracks, double memory_budget_bytes = -1);
+                                                            const SurfaceMesh& cracks, double memory_budget_bytes = -1,
+                                                            const std::vector<char>* keep = nullptr,
+                                                            AppendedP1Blocks* kept = nullptr);
 
 // P0 x P1 mass matrix M01[a, (a, alpha)] = |T_a|/3 I applied to a nodal vector (3N -> 3M) and its transpose.
 Vector mass_times_nodal(const SurfaceOperators& s, const Vector& nodal);

@@ -122,8 +122,11 @@ double tip_separated_scalar(const ElementGeometry& a, const TipElementKind& ka, 
 // `basis_integral` holds int psi_a per element for face loads. `previous`: the square-root operators
 // of the step before (may be null); corrections of elements and pairs whose geometry and kinds did
 // not change are taken from it instead of integrated again (same numbers, same order of addition).
+// `appended`: P1 blocks kept by the append that made `p1` (append_crack_elements' `kept`); the pairs
+// found there are not integrated again (the same numbers).
 std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1,
-                                                          const CrackOperators* previous = nullptr);
+                                                          const CrackOperators* previous = nullptr,
+                                                          const AppendedP1Blocks* appended = nullptr);
 
 // SIFs per front edge at the edge's midpoint from the front nodes' square-root coefficients (the
 // solution's front_coefficient), with the same tip frame as displacement correlation.
