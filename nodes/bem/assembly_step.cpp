@@ -125,24 +125,18 @@ void start_estimating(const AssemblyRequest& rq, const BemOperators* reuse, BemO
 void append_cracks(const AssemblyRequest& rq, const BemOperators* reuse, BemOperators& out, AssemblyReport& rep) {
     const std::shared_ptr<const CrackOperators> prev_cracks = reuse ? reuse->cracks : nullptr;
     // This node's budget, not that of the assembly whose surface blocks are reused.
-    // With square-root elements the append keeps the P1 blocks of the new front elements' pairs,
-    // which the square-root step subtracts (it would integrate them again).
-    std::vector<char> front_element;
-    AppendedP1Blocks kept;
-    if (out.tip_elements) {
-        const TipBasis basis = tip_basis(*rq.cracks);
-        front_element.resize(basis.kind.size());
-        for (std::size_t e = 0; e < basis.kind.size(); ++e) front_element[e] = basis.kind[e].type != TipElementKind::plain;
-    }
-    out.cracks = append_crack_elements(*out.surface, prev_cracks, *rq.cracks, rq.options.memory_budget_bytes,
-                                       out.tip_elements ? &front_element : nullptr, out.tip_elements ? &kept : nullptr);
+    // With square-root elements the corrections of the new elements' pairs are made inside the append,
+    // from the P1 blocks it has at hand (TipCorrectionsOfAppend).
+    std::unique_ptr<TipCorrectionsOfAppend> corrections;
+    if (out.tip_elements) corrections = std::make_unique<TipCorrectionsOfAppend>(*out.surface, *rq.cracks);
+    out.cracks = append_crack_elements(*out.surface, prev_cracks, *rq.cracks, rq.options.memory_budget_bytes, corrections.get());
     rep.crack_pairs = static_cast<std::size_t>(out.cracks->pairs_computed_last);
     if (out.tip_elements) {
         // The front moves every step: the square-root blocks are re-integrated from the P1 base.
-        out.tip = tip_crack_operators(*out.surface, *out.cracks, reuse && reuse->tip ? reuse->tip.get() : nullptr, &kept);
+        out.tip = tip_crack_operators(*out.surface, *out.cracks, reuse && reuse->tip ? reuse->tip.get() : nullptr, corrections.get());
         rep.tip_pairs = static_cast<std::size_t>(out.tip->tip_pairs_computed);
         rep.tip_pairs_reused = static_cast<std::size_t>(out.tip->tip_pairs_reused);
-        rep.tip_p1_pairs_kept = static_cast<std::size_t>(out.tip->tip_p1_pairs_kept);
+        rep.tip_pairs_in_append = static_cast<std::size_t>(out.tip->tip_pairs_in_append);
     }
 }
 

@@ -39,7 +39,7 @@ struct AssemblyReport {
     std::size_t crack_pairs = 0;    // crack element pairs integrated (system blocks or estimated openings)
     std::size_t tip_pairs = 0;      // element pairs re-integrated with square-root front elements
     std::size_t tip_pairs_reused = 0;  // their corrections taken from the previous step (front unchanged there)
-    std::size_t tip_p1_pairs_kept = 0;  // computed ones whose P1 blocks came from this step's append
+    std::size_t tip_pairs_in_append = 0;  // computed ones made inside the append (TipCorrectionsOfAppend)
 };
 
 // Throws std::invalid_argument with the parameter or input to fix: a method that contradicts the

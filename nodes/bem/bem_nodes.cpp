@@ -113,7 +113,7 @@ void count_assembly(graph::NodeContext& c, const bem::AssemblyRequest& rq, const
     c.count("crack_pairs_computed", static_cast<double>(rep.crack_pairs));
     c.count("tip_pairs_computed", static_cast<double>(rep.tip_pairs));
     c.count("tip_pairs_reused", static_cast<double>(rep.tip_pairs_reused));
-    c.count("tip_p1_pairs_kept", static_cast<double>(rep.tip_p1_pairs_kept));
+    c.count("tip_pairs_in_append", static_cast<double>(rep.tip_pairs_in_append));
     if (rq.cracks) c.count("crack_triangles", static_cast<double>(rq.cracks->num_triangles()));
     c.count("elements", static_cast<double>(rep.elements));
     c.count("growth_estimated", rep.estimated ? 1 : 0);

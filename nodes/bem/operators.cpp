@@ -224,28 +224,19 @@ void grow_block(Matrix& m, const Matrix* old, Eigen::Index rows, Eigen::Index co
 // so tasks of one colour run in parallel.
 class CrackElementColumns {
 public:
-    // `kept`: slots made for the blocks to keep (AppendedP1Blocks), or null. Task b writes only b's slots.
-    CrackElementColumns(const SurfaceOperators& surface, CrackOperators& out, AppendedP1Blocks* kept)
+    // `observer`: sees every pair's P1 blocks (AppendedPairs), or null.
+    CrackElementColumns(const SurfaceOperators& surface, CrackOperators& out, AppendedPairs* observer)
         : gs_(surface.geometry), gc_(out.geometry), quad_(shared_pair_quadrature(surface.options.quadrature)),
-          ec_(surface.elastic), W_(out.W), X_(out.X), HY_(out.HY), kept_(kept) {}
+          ec_(surface.elastic), W_(out.W), X_(out.X), HY_(out.HY), observer_(observer) {}
 
     void operator()(int b) const {
         const ElementGeometry& gb = gc_[b];
         PairBlocks blk;
-        AppendedP1Blocks::Surface* keep_surface = nullptr;
-        const std::int32_t* crack_slot = nullptr;
-        AppendedP1Blocks::Crack* keep_crack = nullptr;
-        if (kept_) {
-            const std::size_t k = std::size_t(b) - kept_->first;
-            if (!kept_->surface[k].empty()) keep_surface = kept_->surface[k].data();
-            crack_slot = kept_->crack_slot[k].data();
-            keep_crack = kept_->crack[k].data();
-        }
         for (std::size_t a = 0; a < gs_.size(); ++a) {
             const ElementGeometry& ga = gs_[a];
             const PairIntegrals p = pair_integrals(ga, gb, false, quad_);
             pair_blocks(ga, gb, p, ec_, false, blk);
-            if (keep_surface) keep_surface[a] = {blk.Kb, blk.H};
+            if (observer_) observer_->surface_pair(b, static_cast<int>(a), blk);
             for (int be = 0; be < 3; ++be) {
                 add_block(W_, 3 * static_cast<Eigen::Index>(a), 3 * gb.nodes[be], blk.Kb[be]);
                 for (int al = 0; al < 3; ++al) add_block(X_, 3 * ga.nodes[al], 3 * gb.nodes[be], blk.H[al][be]);
@@ -255,7 +246,7 @@ public:
             const ElementGeometry& ga = gc_[a];
             const PairIntegrals p = pair_integrals(ga, gb, true, quad_);
             pair_blocks(ga, gb, p, ec_, false, blk);
-            if (crack_slot && crack_slot[a] >= 0) keep_crack[crack_slot[a]] = blk.H;
+            if (observer_) observer_->crack_pair(a, b, blk);
             const double half = (a == b) ? 0.5 : 1.0;
             for (int al = 0; al < 3; ++al)
                 for (int be = 0; be < 3; ++be) add_block(HY_, 3 * ga.nodes[al], 3 * gb.nodes[be], half * blk.H[al][be]);
@@ -270,47 +261,15 @@ private:
     Matrix& W_;
     Matrix& X_;
     Matrix& HY_;
-    AppendedP1Blocks* kept_;
+    AppendedPairs* observer_;
 };
-
-// Slots in `kept` for the blocks of the new elements [first, g.size()) that AppendedP1Blocks
-// describes, if they fit the budget beside the crack blocks and the square-root step's second copy
-// of them; otherwise `kept` stays empty.
-void make_kept_slots(const std::vector<ElementGeometry>& g, std::size_t first, std::size_t surface_elements,
-                     const std::vector<char>& keep, double budget_left, AppendedP1Blocks& kept) {
-    kept = AppendedP1Blocks{};
-    if (keep.size() != g.size())
-        throw std::invalid_argument("append_crack_elements: " + std::to_string(keep.size()) + " keep flags for " +
-                                    std::to_string(g.size()) + " crack elements");
-    double bytes = 0;
-    std::vector<std::size_t> pairs(g.size() - first, 0);
-    for (std::size_t b = first; b < g.size(); ++b) {
-        if (keep[b]) bytes += double(surface_elements) * sizeof(AppendedP1Blocks::Surface);
-        for (std::size_t a = 0; a <= b; ++a) pairs[b - first] += (keep[a] || keep[b]) ? 1 : 0;
-        bytes += double(pairs[b - first]) * sizeof(AppendedP1Blocks::Crack) + double(b + 1) * sizeof(std::int32_t);
-    }
-    if (bytes > budget_left) return;
-    kept.first = first;
-    kept.surface.resize(g.size() - first);
-    kept.crack_slot.resize(g.size() - first);
-    kept.crack.resize(g.size() - first);
-    for (std::size_t b = first; b < g.size(); ++b) {
-        const std::size_t k = b - first;
-        if (keep[b]) kept.surface[k].resize(surface_elements);
-        kept.crack[k].resize(pairs[k]);
-        kept.crack_slot[k].assign(b + 1, -1);
-        std::int32_t next = 0;
-        for (std::size_t a = 0; a <= b; ++a)
-            if (keep[a] || keep[b]) kept.crack_slot[k][a] = next++;
-    }
-}
 
 }  // namespace
 
 std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
                                                             const std::shared_ptr<const CrackOperators>& previous,
                                                             const SurfaceMesh& cracks, double memory_budget_bytes,
-                                                            const std::vector<char>* keep, AppendedP1Blocks* kept) {
+                                                            AppendedPairs* observer) {
     const std::size_t old_tris = previous ? previous->cracks.num_triangles() : 0;
     const std::size_t old_verts = previous ? previous->cracks.num_vertices() : 0;
     check_appended(previous.get(), cracks);
@@ -331,16 +290,8 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
     grow_block(out->W, previous ? &previous->W : nullptr, 3 * Ms, 3 * Nc, 3 * Ms, 3 * Nc0);
     grow_block(out->X, previous ? &previous->X : nullptr, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
     grow_block(out->HY, previous ? &previous->HY : nullptr, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
-    if (kept) {
-        *kept = AppendedP1Blocks{};
-        if (keep) {
-            const double budget = memory_budget_bytes >= 0 ? memory_budget_bytes : surface.options.memory_budget_bytes;
-            const double used = 2 * crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), cracks.num_vertices());
-            make_kept_slots(out->geometry, old_tris, surface.geometry.size(), *keep, budget - used, *kept);
-        }
-    }
-    AppendedP1Blocks* slots = kept && !kept->crack_slot.empty() ? kept : nullptr;
-    for_each_colour(colour_elements(out->geometry, old_tris, out->geometry.size()), CrackElementColumns(surface, *out, slots));
+    if (observer) observer->begin(out->geometry, old_tris);
+    for_each_colour(colour_elements(out->geometry, old_tris, out->geometry.size()), CrackElementColumns(surface, *out, observer));
     std::int64_t added = 0;
     for (std::size_t b = old_tris; b < out->geometry.size(); ++b)
         added += static_cast<std::int64_t>(Ms) + static_cast<std::int64_t>(b) + 1;

@@ -67,7 +67,7 @@ struct CrackOperators {
     std::vector<std::array<double, 3>> basis_integral;
     std::int64_t tip_pairs_computed = 0;    // element pairs integrated with the square-root basis
     std::int64_t tip_pairs_reused = 0;      // their corrections taken from the step before
-    std::int64_t tip_p1_pairs_kept = 0;     // of the computed ones, P1 blocks taken from the append (AppendedP1Blocks)
+    std::int64_t tip_pairs_in_append = 0;   // of the computed ones, those integrated with the append's P1 blocks (AppendedPairs)
     std::shared_ptr<const struct TipCache> tip_cache;  // tip_elements.cpp
     Matrix Y() const { return HY + HY.transpose(); }
 };
@@ -87,32 +87,18 @@ void check_memory_budget(double bytes, double budget, const std::string& what);
 std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const SurfaceMesh& mesh, const Material& material,
                                                                    const AssemblyOptions& options);
 
-// P1 blocks of some of an append's new element pairs, handed to the square-root step of the same
-// assembly (tip_crack_operators), which subtracts exactly these blocks from its corrections and
-// otherwise integrates them a second time (3 % of cube_compressive's run). New element b keeps its
-// blocks against every surface element when keep[b]; the crack pair (a, b), a <= b with b new, is
-// kept when keep[a] or keep[b] (the pairs with a front element).
-struct AppendedP1Blocks {
-    struct Surface {
-        std::array<Mat3, 3> Kb;                // PairBlocks::Kb of (surface a, crack b)
-        std::array<std::array<Mat3, 3>, 3> H;  // PairBlocks::H of (surface a, crack b)
-    };
-    using Crack = std::array<std::array<Mat3, 3>, 3>;  // PairBlocks::H of (crack a, crack b), unhalved
-    std::size_t first = 0;                              // the first new element
-    std::vector<std::vector<Surface>> surface;          // [b - first][surface a], empty when not kept
-    std::vector<std::vector<std::int32_t>> crack_slot;  // [b - first][a]: index into crack[b - first], or -1
-    std::vector<std::vector<Crack>> crack;
-    // The kept blocks of (surface element a, crack element b) or of the crack pair (lo, hi), lo <= hi;
-    // null when they were not kept.
-    const Surface* surface_block(std::size_t b, std::size_t a) const {
-        if (b < first || b - first >= surface.size() || surface[b - first].empty()) return nullptr;
-        return &surface[b - first][a];
-    }
-    const Crack* crack_block(std::size_t lo, std::size_t hi) const {
-        if (hi < first || hi - first >= crack_slot.size() || lo >= crack_slot[hi - first].size()) return nullptr;
-        const std::int32_t s = crack_slot[hi - first][lo];
-        return s < 0 ? nullptr : &crack[hi - first][std::size_t(s)];
-    }
+// Receives the P1 blocks of every pair an append integrates (append_crack_elements' element tasks:
+// task b calls it for b's pairs only, in a fixed order), so that work which needs exactly those blocks
+// (the square-root corrections, tip_elements.hpp) does not integrate them a second time.
+class AppendedPairs {
+public:
+    virtual ~AppendedPairs() = default;
+    // Before the tasks: the crack elements (the new ones from `first_new` on).
+    virtual void begin(const std::vector<ElementGeometry>& crack_geometry, std::size_t first_new) = 0;
+    // Surface element a against new crack element b, for a = 0, 1, ... in order.
+    virtual void surface_pair(int b, int a, const PairBlocks& p1) = 0;
+    // Crack elements a <= b, b new, for a = 0, 1, ..., b in order.
+    virtual void crack_pair(int a, int b, const PairBlocks& p1) = 0;
 };
 
 // Returns crack blocks for `cracks`, reusing `previous` (may be null). `cracks` must extend
@@ -120,15 +106,11 @@ struct AppendedP1Blocks {
 // std::invalid_argument when it does not, when a crack triangle is degenerate, or when a crack
 // triangle intersects the ordinary surface.
 // `memory_budget_bytes` < 0: the surface's (the budget of the assembly that made it); a loop's
-// assembly passes its own. With `keep` (one flag per element of `cracks`) and `kept`, the P1 blocks
-// of the new elements' pairs described at AppendedP1Blocks are copied into `kept` as well, unless
-// they and the square-root step's copy of the blocks would not fit the budget (then `kept` stays
-// empty and the square-root step integrates them itself).
+// assembly passes its own. `observer` (may be null) sees the P1 blocks of every new pair.
 std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperators& surface,
                                                             const std::shared_ptr<const CrackOperators>& previous,
                                                             const SurfaceMesh& cracks, double memory_budget_bytes = -1,
-                                                            const std::vector<char>* keep = nullptr,
-                                                            AppendedP1Blocks* kept = nullptr);
+                                                            AppendedPairs* observer = nullptr);
 
 // P0 x P1 mass matrix M01[a, (a, alpha)] = |T_a|/3 I applied to a nodal vector (3N -> 3M) and its transpose.
 Vector mass_times_nodal(const SurfaceOperators& s, const Vector& nodal);

@@ -756,61 +756,145 @@ struct TipCache {
 
 namespace {
 
-// Every surface element against crack element b: square-root blocks in, P1 blocks out (`p1_kept`:
-// b's P1 blocks against every surface element from this step's append, or null to integrate them).
-std::shared_ptr<const TipCache::Columns> surface_columns(const SurfaceOperators& surface, const ElementGeometry& gb,
-                                                         const TipElementKind& kb, const TipRules& rules,
-                                                         const PairQuadrature& quad, const AppendedP1Blocks::Surface* p1_kept) {
+// Surface columns of crack element b, empty (zero) for every surface element / node.
+std::shared_ptr<TipCache::Columns> empty_columns(const SurfaceOperators& surface, const ElementGeometry& gb, const TipElementKind& kb) {
     auto c = std::make_shared<TipCache::Columns>();
     c->where = Place(gb);
     c->kind = kb;
-    const auto& gs = surface.geometry;
-    c->W = Matrix::Zero(3 * static_cast<Eigen::Index>(gs.size()), 9);
+    c->W = Matrix::Zero(3 * static_cast<Eigen::Index>(surface.geometry.size()), 9);
     c->X = Matrix::Zero(3 * static_cast<Eigen::Index>(surface.mesh.num_vertices()), 9);
+    return c;
+}
+
+// Surface element a's part of b's columns: its square-root blocks in, its P1 blocks `p1` out.
+void add_surface_correction(TipCache::Columns& c, const SurfaceOperators& surface, std::size_t a, const ElementGeometry& gb,
+                            const TipElementKind& kb, const TipRules& rules, const PairBlocks& p1) {
+    const ElementGeometry& ga = surface.geometry[a];
     const TipElementKind plain;
-    PairBlocks blk;
     TipPairBlocks tip;
-    for (std::size_t a = 0; a < gs.size(); ++a) {
-        if (p1_kept) {
-            blk.Kb = p1_kept[a].Kb;
-            blk.H = p1_kept[a].H;
-        } else {
-            const PairIntegrals p = pair_integrals(gs[a], gb, false, quad);
-            pair_blocks(gs[a], gb, p, surface.elastic, false, blk);
-        }
-        tip_pair_blocks_with(gs[a], plain, gb, kb, false, rules, surface.elastic, true, tip);
-        for (int be = 0; be < 3; ++be) {
-            c->W.block<3, 3>(3 * a, 3 * be) += tip.Kb[be] - blk.Kb[be];
-            for (int al = 0; al < 3; ++al) c->X.block<3, 3>(3 * gs[a].nodes[al], 3 * be) += tip.H[al][be] - blk.H[al][be];
-        }
+    tip_pair_blocks_with(ga, plain, gb, kb, false, rules, surface.elastic, true, tip);
+    for (int be = 0; be < 3; ++be) {
+        c.W.block<3, 3>(3 * a, 3 * be) += tip.Kb[be] - p1.Kb[be];
+        for (int al = 0; al < 3; ++al) c.X.block<3, 3>(3 * ga.nodes[al], 3 * be) += tip.H[al][be] - p1.H[al][be];
+    }
+}
+
+// Every surface element against crack element b, in order.
+std::shared_ptr<const TipCache::Columns> surface_columns(const SurfaceOperators& surface, const ElementGeometry& gb,
+                                                         const TipElementKind& kb, const TipRules& rules,
+                                                         const PairQuadrature& quad) {
+    auto c = empty_columns(surface, gb, kb);
+    PairBlocks blk;
+    for (std::size_t a = 0; a < surface.geometry.size(); ++a) {
+        const PairIntegrals p = pair_integrals(surface.geometry[a], gb, false, quad);
+        pair_blocks(surface.geometry[a], gb, p, surface.elastic, false, blk);
+        add_surface_correction(*c, surface, a, gb, kb, rules, blk);
     }
     return c;
 }
 
-// Crack pair (a, b) owned by b (`p1_kept`: its P1 blocks from this step's append, or null).
-std::shared_ptr<const TipCache::Pair> crack_pair(const std::vector<ElementGeometry>& gc, const TipBasis& basis, int a, int b,
-                                                 const ElasticConstants& ec, const TipRules& rules, const PairQuadrature& quad,
-                                                 const AppendedP1Blocks::Crack* p1_kept) {
-    auto c = std::make_shared<TipCache::Pair>();
+// Crack pair (a, b) owned by b, with its P1 blocks `p1` (of the pair (min, max)).
+void pair_correction(const std::vector<ElementGeometry>& gc, const TipBasis& basis, int a, int b, const ElasticConstants& ec,
+                     const TipRules& rules, const PairBlocks& p1, TipCache::Pair& c) {
     const int lo = std::min(a, b), hi = std::max(a, b);
-    PairBlocks blk;
     TipPairBlocks tip;
-    if (p1_kept) {
-        blk.H = *p1_kept;
-    } else {
-        const PairIntegrals p = pair_integrals(gc[lo], gc[hi], true, quad);
-        pair_blocks(gc[lo], gc[hi], p, ec, false, blk);
-    }
     tip_pair_blocks_with(gc[lo], basis.kind[lo], gc[hi], basis.kind[hi], true, rules, ec, false, tip);
     const double half = a == b ? 0.5 : 1.0;
     for (int al = 0; al < 3; ++al)
         for (int be = 0; be < 3; ++be) {
-            const Mat3 d = half * (tip.H[al][be] - blk.H[al][be]);  // rows lo's node al, columns hi's node be
-            if (a == lo) c->D[al][be] = d;
-            else c->D[be][al] = d.transpose();
+            const Mat3 d = half * (tip.H[al][be] - p1.H[al][be]);  // rows lo's node al, columns hi's node be
+            if (a == lo) c.D[al][be] = d;
+            else c.D[be][al] = d.transpose();
         }
+}
+
+std::shared_ptr<const TipCache::Pair> crack_pair(const std::vector<ElementGeometry>& gc, const TipBasis& basis, int a, int b,
+                                                 const ElasticConstants& ec, const TipRules& rules, const PairQuadrature& quad) {
+    auto c = std::make_shared<TipCache::Pair>();
+    const int lo = std::min(a, b), hi = std::max(a, b);
+    PairBlocks blk;
+    const PairIntegrals p = pair_integrals(gc[lo], gc[hi], true, quad);
+    pair_blocks(gc[lo], gc[hi], p, ec, false, blk);
+    pair_correction(gc, basis, a, b, ec, rules, blk, *c);
     return c;
 }
+
+}  // namespace
+
+// The corrections of the pairs with a new element, made as the append hands over their P1 blocks.
+struct TipCorrectionsOfAppend::Impl {
+    Impl(const SurfaceOperators& s, const SurfaceMesh& cracks)
+        : surface(s), basis(tip_basis(cracks)), rules(shared_tip_rules(s.options.quadrature.singular_order + 2)),
+          crack_vertices(cracks.num_vertices()) {}
+    const SurfaceOperators& surface;
+    const TipBasis basis;
+    const TipRules& rules;
+    const std::size_t crack_vertices;
+    const std::vector<ElementGeometry>* gc = nullptr;
+    std::size_t first = 0;
+    std::vector<std::shared_ptr<TipCache::Columns>> columns;                 // [b - first], front elements b
+    std::vector<std::vector<std::shared_ptr<TipCache::Pair>>> pairs;         // [hi - first][lo], pairs with a front element
+    std::int64_t made = 0;
+
+    bool front(std::size_t e) const { return basis.kind[e].type != TipElementKind::plain; }
+    std::shared_ptr<const TipCache::Columns> column(std::size_t b) const {
+        return b >= first && b - first < columns.size() ? columns[b - first] : nullptr;
+    }
+    std::shared_ptr<const TipCache::Pair> pair(std::size_t lo, std::size_t hi) const {
+        return hi >= first && hi - first < pairs.size() && lo < pairs[hi - first].size() ? pairs[hi - first][lo] : nullptr;
+    }
+};
+
+TipCorrectionsOfAppend::TipCorrectionsOfAppend(const SurfaceOperators& surface, const SurfaceMesh& cracks)
+    : impl_(std::make_unique<Impl>(surface, cracks)) {}
+TipCorrectionsOfAppend::~TipCorrectionsOfAppend() = default;
+
+void TipCorrectionsOfAppend::begin(const std::vector<ElementGeometry>& crack_geometry, std::size_t first_new) {
+    Impl& m = *impl_;
+    if (crack_geometry.size() != m.basis.kind.size())
+        throw std::logic_error("TipCorrectionsOfAppend: made for " + std::to_string(m.basis.kind.size()) + " crack elements, the append has " +
+                               std::to_string(crack_geometry.size()));
+    // Their share of the budget tip_crack_operators checks (which counts the kept ones too), before any is made.
+    std::size_t front_new = 0, pairs = 0, front_before = 0;
+    for (std::size_t e = 0; e < crack_geometry.size(); ++e) {
+        if (e >= first_new) {
+            front_new += m.front(e) ? 1 : 0;
+            pairs += m.front(e) ? e + 1 : front_before;  // (a, e), a <= e, with a front element
+        }
+        front_before += m.front(e) ? 1 : 0;
+    }
+    const SurfaceOperators& s = m.surface;
+    check_memory_budget(2 * crack_operator_bytes(s.mesh.num_triangles(), s.mesh.num_vertices(), m.crack_vertices) +
+                            8.0 * (9.0 * double(front_new) * 3.0 * double(s.geometry.size() + s.mesh.num_vertices()) + 81.0 * double(pairs)),
+                        s.options.memory_budget_bytes,
+                        "square-root crack-front elements for " + std::to_string(front_new) + " new front elements");
+    m.gc = &crack_geometry;
+    m.first = first_new;
+    m.columns.assign(crack_geometry.size() - first_new, nullptr);
+    m.pairs.assign(crack_geometry.size() - first_new, {});
+    for (std::size_t b = first_new; b < crack_geometry.size(); ++b) m.pairs[b - first_new].resize(b + 1);
+}
+
+void TipCorrectionsOfAppend::surface_pair(int b, int a, const PairBlocks& p1) {
+    Impl& m = *impl_;
+    if (!m.front(std::size_t(b))) return;
+    std::shared_ptr<TipCache::Columns>& c = m.columns[std::size_t(b) - m.first];
+    if (a == 0) c = empty_columns(m.surface, (*m.gc)[std::size_t(b)], m.basis.kind[std::size_t(b)]);
+    add_surface_correction(*c, m.surface, std::size_t(a), (*m.gc)[std::size_t(b)], m.basis.kind[std::size_t(b)], m.rules, p1);
+}
+
+void TipCorrectionsOfAppend::crack_pair(int a, int b, const PairBlocks& p1) {
+    Impl& m = *impl_;
+    const bool fa = m.front(std::size_t(a)), fb = m.front(std::size_t(b));
+    if (!fa && !fb) return;
+    // Owned by the front element of larger index (tip_crack_operators' keys).
+    const int owner = fb ? b : a, other = fb ? a : b;
+    auto c = std::make_shared<TipCache::Pair>();
+    pair_correction(*m.gc, m.basis, other, owner, m.surface.elastic, m.rules, p1, *c);
+    m.pairs[std::size_t(b) - m.first][std::size_t(a)] = std::move(c);
+}
+
+namespace {
 
 // int psi_a per element (face loads): a third of the area on plain elements, a collapsed Gauss
 // rule on the others.
@@ -939,11 +1023,11 @@ void start_blocks(const CrackOperators& p1, const CrackOperators* previous, cons
 }  // namespace
 
 std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1,
-                                                          const CrackOperators* previous, const AppendedP1Blocks* appended) {
-    if (appended && !appended->crack_slot.empty() && appended->first + appended->crack_slot.size() != p1.geometry.size())
-        throw std::logic_error("tip_crack_operators: the appended P1 blocks are of elements " + std::to_string(appended->first) +
-                               " on, " + std::to_string(appended->crack_slot.size()) + " of them, not of the last append to " +
-                               std::to_string(p1.geometry.size()) + " elements");
+                                                          const CrackOperators* previous, const TipCorrectionsOfAppend* appended) {
+    const TipCorrectionsOfAppend::Impl* from_append = appended ? &appended->impl() : nullptr;
+    if (from_append && from_append->gc != &p1.geometry)
+        throw std::logic_error("tip_crack_operators: the corrections handed over were made during another append than the one that "
+                               "made these P1 blocks");
     // A second copy of the crack blocks beside the append-only P1 ones.
     check_memory_budget(2 * crack_operator_bytes(surface.mesh.num_triangles(), surface.mesh.num_vertices(), p1.cracks.num_vertices()),
                         surface.options.memory_budget_bytes,
@@ -1031,7 +1115,7 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
         // The front stood still everywhere and no element joined: the previous blocks are these.
         auto same = std::make_shared<CrackOperators>(*previous);
         same->tip_pairs_computed = 0;
-        same->tip_p1_pairs_kept = 0;
+        same->tip_pairs_in_append = 0;
         same->tip_pairs_reused = static_cast<std::int64_t>(touched.size() * surface.geometry.size() + cache->pairs.size());
         return same;
     }
@@ -1050,14 +1134,14 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
                           for (std::size_t i = rg.begin(); i != rg.end(); ++i) {
                               if (i < fresh_columns.size()) {
                                   const int b = fresh_columns[i];
-                                  new_columns[i] = surface_columns(surface, gc[b], basis.kind[b], rules, quad,
-                                                                   appended ? appended->surface_block(std::size_t(b), 0) : nullptr);
+                                  if (from_append && (new_columns[i] = from_append->column(std::size_t(b)))) continue;
+                                  new_columns[i] = surface_columns(surface, gc[b], basis.kind[b], rules, quad);
                               } else {
                                   const auto& ba = cache->pairs[fresh_pairs[i - fresh_columns.size()]].first;
                                   const auto [lo, hi] = std::minmax(ba.first, ba.second);
-                                  new_pairs[i - fresh_columns.size()] =
-                                      crack_pair(gc, basis, ba.second, ba.first, surface.elastic, rules, quad,
-                                                 appended ? appended->crack_block(std::size_t(lo), std::size_t(hi)) : nullptr);
+                                  std::shared_ptr<const TipCache::Pair>& slot = new_pairs[i - fresh_columns.size()];
+                                  if (from_append && (slot = from_append->pair(std::size_t(lo), std::size_t(hi)))) continue;
+                                  slot = crack_pair(gc, basis, ba.second, ba.first, surface.elastic, rules, quad);
                               }
                           }
                       });
@@ -1109,12 +1193,12 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
         }
     });
     out->tip_pairs_computed = static_cast<std::int64_t>(fresh_columns.size() * surface.geometry.size() + fresh_pairs.size());
-    if (appended) {
+    if (from_append) {
         for (int b : fresh_columns)
-            if (appended->surface_block(std::size_t(b), 0)) out->tip_p1_pairs_kept += static_cast<std::int64_t>(surface.geometry.size());
+            if (from_append->column(std::size_t(b))) out->tip_pairs_in_append += static_cast<std::int64_t>(surface.geometry.size());
         for (std::size_t q : fresh_pairs) {
             const auto [lo, hi] = std::minmax(cache->pairs[q].first.first, cache->pairs[q].first.second);
-            if (appended->crack_block(std::size_t(lo), std::size_t(hi))) ++out->tip_p1_pairs_kept;
+            if (from_append->pair(std::size_t(lo), std::size_t(hi))) ++out->tip_pairs_in_append;
         }
     }
     out->tip_pairs_reused = static_cast<std::int64_t>((touched.size() - fresh_columns.size()) * surface.geometry.size() +

@@ -122,11 +122,33 @@ double tip_separated_scalar(const ElementGeometry& a, const TipElementKind& ka, 
 // `basis_integral` holds int psi_a per element for face loads. `previous`: the square-root operators
 // of the step before (may be null); corrections of elements and pairs whose geometry and kinds did
 // not change are taken from it instead of integrated again (same numbers, same order of addition).
-// `appended`: P1 blocks kept by the append that made `p1` (append_crack_elements' `kept`); the pairs
-// found there are not integrated again (the same numbers).
+// `appended`: the corrections made during the append that made `p1` (TipCorrectionsOfAppend); the
+// ones it holds are taken instead of integrated (the same numbers).
+class TipCorrectionsOfAppend;
 std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators& surface, const CrackOperators& p1,
                                                           const CrackOperators* previous = nullptr,
-                                                          const AppendedP1Blocks* appended = nullptr);
+                                                          const TipCorrectionsOfAppend* appended = nullptr);
+
+// The square-root corrections of the pairs with a new element, made inside the append (as its
+// observer, append_crack_elements) while it hands over their P1 blocks, so tip_crack_operators need
+// not integrate those P1 blocks a second time (the correction is square-root minus P1 blocks) nor
+// keep them meanwhile: the corrections made here are the ones the step keeps. `cracks`: the mesh
+// being appended to. One append per object; its element tasks call it concurrently, each for its own
+// element's pairs.
+class TipCorrectionsOfAppend : public AppendedPairs {
+public:
+    TipCorrectionsOfAppend(const SurfaceOperators& surface, const SurfaceMesh& cracks);
+    ~TipCorrectionsOfAppend() override;
+    void begin(const std::vector<ElementGeometry>& crack_geometry, std::size_t first_new) override;
+    void surface_pair(int b, int a, const PairBlocks& p1) override;
+    void crack_pair(int a, int b, const PairBlocks& p1) override;
+
+    struct Impl;
+    const Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
 
 // SIFs per front edge at the edge's midpoint from the front nodes' square-root coefficients (the
 // solution's front_coefficient), with the same tip frame as displacement correlation.

@@ -192,51 +192,39 @@ TEST(BemCracks, SquareRootBlocksFromTheStepBeforeEqualFreshOnes) {
     }
 }
 
-// The P1 blocks an append keeps for the square-root step (AppendedP1Blocks: the new front elements'
-// pairs) give bit for bit the square-root blocks integrated without them, and the append's own blocks
-// do not change; a budget too small for them keeps none and changes nothing either.
-TEST(BemCracks, SquareRootBlocksWithTheAppendsP1BlocksEqualIntegratedOnes) {
+// The square-root corrections made inside the append from its P1 blocks (TipCorrectionsOfAppend) give
+// bit for bit the square-root blocks integrated without them, and the append's own blocks do not
+// change. Corrections of another append are refused.
+TEST(BemCracks, SquareRootCorrectionsMadeInTheAppendEqualIntegratedOnes) {
     const auto [o, bc] = pulled_cube();
     const SurfaceMesh a = bem_disk_mesh(5, 1.5, Vec3(-2.2, 0, 0)), b = bem_disk_mesh(3, 1.0, Vec3(2.2, 0.3, 0));
-    std::shared_ptr<const CrackOperators> p1, p1_kept, p1_small, tip, tip_kept, tip_small;
+    std::shared_ptr<const CrackOperators> p1, p1_obs, tip, tip_obs;
     for (int rings : {3, 4, 5, 5}) {
         const SurfaceMesh m = two_sheets(a, 3, rings, b);
-        const TipBasis basis = tip_basis(m);
-        std::vector<char> front(basis.kind.size());
-        for (std::size_t e = 0; e < front.size(); ++e) front[e] = basis.kind[e].type != TipElementKind::plain;
-        AppendedP1Blocks kept, none;
         const std::size_t old_tris = p1 ? p1->geometry.size() : 0;
+        TipCorrectionsOfAppend corrections(*o, m);
         p1 = append_crack_elements(*o, p1, m);
-        p1_kept = append_crack_elements(*o, p1_kept, m, -1, &front, &kept);
-        const double fits_blocks_only =
-            2 * crack_operator_bytes(o->mesh.num_triangles(), o->mesh.num_vertices(), m.num_vertices()) + 1;
-        p1_small = append_crack_elements(*o, p1_small, m, fits_blocks_only, &front, &none);
-        EXPECT_TRUE(none.crack_slot.empty()) << rings;
-        EXPECT_EQ(kept.crack_slot.size(), m.num_triangles() - old_tris) << rings;
-        EXPECT_TRUE(p1_kept->HY.cwiseEqual(p1->HY).all()) << rings;
-        EXPECT_TRUE(p1_kept->W.cwiseEqual(p1->W).all()) << rings;
+        p1_obs = append_crack_elements(*o, p1_obs, m, -1, &corrections);
+        EXPECT_TRUE(p1_obs->HY.cwiseEqual(p1->HY).all()) << rings;
+        EXPECT_TRUE(p1_obs->W.cwiseEqual(p1->W).all()) << rings;
+        EXPECT_TRUE(p1_obs->X.cwiseEqual(p1->X).all()) << rings;
         tip = tip_crack_operators(*o, *p1, tip.get());
-        tip_kept = tip_crack_operators(*o, *p1_kept, tip_kept.get(), &kept);
-        tip_small = tip_crack_operators(*o, *p1_small, tip_small.get(), &none);
+        tip_obs = tip_crack_operators(*o, *p1_obs, tip_obs.get(), &corrections);
+        EXPECT_EQ(tip->tip_pairs_in_append, 0);
+        EXPECT_EQ(tip_obs->tip_pairs_computed, tip->tip_pairs_computed) << rings;
         if (m.num_triangles() > old_tris) {
-            EXPECT_GT(tip_kept->tip_p1_pairs_kept, 0) << rings;
-            EXPECT_LE(tip_kept->tip_p1_pairs_kept, tip_kept->tip_pairs_computed) << rings;
+            EXPECT_GT(tip_obs->tip_pairs_in_append, 0) << rings;
+            EXPECT_LE(tip_obs->tip_pairs_in_append, tip_obs->tip_pairs_computed) << rings;
         } else {
-            EXPECT_EQ(tip_kept->tip_p1_pairs_kept, 0) << rings;
+            EXPECT_EQ(tip_obs->tip_pairs_in_append, 0) << rings;
         }
-        EXPECT_EQ(tip->tip_p1_pairs_kept, 0);
-        EXPECT_EQ(tip_small->tip_p1_pairs_kept, 0);
-        for (const auto& t : {tip_kept, tip_small}) {
-            EXPECT_TRUE(t->W.cwiseEqual(tip->W).all()) << rings;
-            EXPECT_TRUE(t->X.cwiseEqual(tip->X).all()) << rings;
-            EXPECT_TRUE(t->HY.cwiseEqual(tip->HY).all()) << rings;
-        }
+        EXPECT_TRUE(tip_obs->W.cwiseEqual(tip->W).all()) << rings;
+        EXPECT_TRUE(tip_obs->X.cwiseEqual(tip->X).all()) << rings;
+        EXPECT_TRUE(tip_obs->HY.cwiseEqual(tip->HY).all()) << rings;
+        EXPECT_GT(tip->HY.cwiseAbs().maxCoeff(), 0);
+        // These corrections belong to p1_obs, not to p1 (another append of the same mesh).
+        EXPECT_THROW(tip_crack_operators(*o, *p1, nullptr, &corrections), std::logic_error);
     }
-    // Blocks of another append are refused.
-    AppendedP1Blocks stale;
-    stale.first = 1;
-    stale.crack_slot.resize(2);
-    EXPECT_THROW(tip_crack_operators(*o, *p1, nullptr, &stale), std::logic_error);
 }
 
 TEST(BemCracks, BadCrackInputsGiveClearErrors) {
