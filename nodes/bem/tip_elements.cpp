@@ -834,7 +834,6 @@ struct TipCorrectionsOfAppend::Impl {
     std::size_t first = 0;
     std::vector<std::shared_ptr<TipCache::Columns>> columns;                 // [b - first], front elements b
     std::vector<std::vector<std::shared_ptr<TipCache::Pair>>> pairs;         // [hi - first][lo], pairs with a front element
-    std::int64_t made = 0;
 
     bool front(std::size_t e) const { return basis.kind[e].type != TipElementKind::plain; }
     std::shared_ptr<const TipCache::Columns> column(std::size_t b) const {
