@@ -17,12 +17,27 @@
 namespace cf {
 namespace {
 
-std::filesystem::path fresh_dir(const std::string& tag) {
-    auto d = std::filesystem::temp_directory_path() / ("cf_fields_" + tag + "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(d);
-    std::filesystem::create_directories(d);
-    return d;
-}
+// A scratch directory of the test's own (the process id in its name: ctest runs the tests of this
+// file concurrently, and two test runs may share the machine), removed when the test ends (every run
+// left three directories behind in /tmp before).
+class ScratchDir {
+public:
+    explicit ScratchDir(const std::string& tag)
+        : path_(std::filesystem::temp_directory_path() / ("cf_fields_" + tag + "_" + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(path_);
+        std::filesystem::create_directories(path_);
+    }
+    ~ScratchDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path_, ignored);
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
 
 TEST(HomogeneousField, ValueAndZeroGradient) {
     const ScalarField f = make_field(std::make_shared<HomogeneousField>(5e5), FieldQuantity::toughness, 2);
@@ -297,7 +312,7 @@ TEST(GranularField, GradientIsTheDerivativeOfTheInterpolant) {
 }
 
 TEST(VdbFileField, ReadsAFloatGridAndInterpolatesLinearFieldsExactly) {
-    const auto dir = fresh_dir("read");
+    const ScratchDir dir("read");
     const auto file = dir / "k.vdb";
     testing::write_linear_float_grid(file, "toughness", 0.01, 10, 1e6, 1e6);
     const VdbFileField f(file, "toughness", 2.0);
@@ -316,7 +331,7 @@ TEST(VdbFileField, ReadsAFloatGridAndInterpolatesLinearFieldsExactly) {
 }
 
 TEST(VdbFileField, WritesAndReadsBackAGranularDistanceGrid) {
-    const auto dir = fresh_dir("roundtrip");
+    const ScratchDir dir("roundtrip");
     const GranularField g(small_granular());
     g.distance_grid().write(dir / "grains.vdb", "distance");
     const VdbFileField back(dir / "grains.vdb", "distance", 1.0);
@@ -334,7 +349,7 @@ std::string error_of(const std::filesystem::path& file, const std::string& grid)
 }
 
 TEST(VdbFileField, ClearErrorsNamingFileAndGrid) {
-    const auto dir = fresh_dir("errors");
+    const ScratchDir dir("errors");
     std::string m = error_of(dir / "missing.vdb", "toughness");
     EXPECT_NE(m.find("missing.vdb"), std::string::npos) << m;
     EXPECT_NE(m.find("does not exist"), std::string::npos) << m;
