@@ -6,8 +6,10 @@
 #include "graph/cancel_token.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_for_each.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <sstream>
 #include <stdexcept>
@@ -60,17 +62,53 @@ std::vector<std::vector<int>> colour_elements(const std::vector<ElementGeometry>
 
 namespace {
 
+// Runs fn(e) for every element of `groups` (colour_elements' colours) with the additions into each
+// node's columns in colour order, as one parallel loop per colour would, but without a barrier
+// between colours: an element waits only for the element of the next lower colour on each of its
+// nodes (at most three), so a heavy element (a sheet corner's square-root pairs) holds up its
+// neighbours, not the whole next colour. Every column still gets its contributions in the same order,
+// so the result is bit for bit that of the colour-by-colour loop, whatever the thread count.
 // Polls the running node's cancel token per element (an element's pairs take well under 0.1 s).
 template <class Fn>
-void for_each_colour(const std::vector<std::vector<int>>& groups, Fn fn) {
+void for_each_colour(const std::vector<ElementGeometry>& g, const std::vector<std::vector<int>>& groups, Fn fn) {
     const CancelToken cancel = CancelToken::current();
+    std::size_t lo = g.size(), hi = 0;
     for (const auto& grp : groups)
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grp.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                cancel.poll();
-                fn(grp[i]);
+        for (int e : grp) {
+            lo = std::min(lo, std::size_t(e));
+            hi = std::max(hi, std::size_t(e) + 1);
+        }
+    if (lo >= hi) return;
+    // Per node, the last element seen in colour order; each element's successors on its nodes.
+    int max_node = -1;
+    for (std::size_t e = lo; e < hi; ++e)
+        for (int v : g[e].nodes) max_node = std::max(max_node, v);
+    std::vector<int> last_on_node(std::size_t(max_node + 1), -1);
+    std::vector<std::array<int, 3>> successors(hi - lo, {-1, -1, -1});
+    std::vector<std::atomic<int>> waiting(hi - lo);
+    std::vector<int> ready;
+    for (const auto& grp : groups)
+        for (int e : grp) {
+            int preds = 0;
+            for (int v : g[e].nodes) {
+                const int p = last_on_node[std::size_t(v)];
+                last_on_node[std::size_t(v)] = e;
+                if (p < 0) continue;
+                // A predecessor twice (two shared nodes) is counted once, so its one release frees e.
+                auto& succ = successors[std::size_t(p) - lo];
+                if (std::find(succ.begin(), succ.end(), e) != succ.end()) continue;
+                *std::find(succ.begin(), succ.end(), -1) = e;
+                ++preds;
             }
-        });
+            waiting[std::size_t(e) - lo].store(preds, std::memory_order_relaxed);
+            if (preds == 0) ready.push_back(e);
+        }
+    tbb::parallel_for_each(ready.begin(), ready.end(), [&](int e, tbb::feeder<int>& feeder) {
+        cancel.poll();
+        fn(e);
+        for (int s : successors[std::size_t(e) - lo])
+            if (s >= 0 && waiting[std::size_t(s) - lo].fetch_sub(1, std::memory_order_acq_rel) == 1) feeder.add(s);
+    });
 }
 
 template <class Mat>
@@ -142,7 +180,7 @@ std::shared_ptr<const SurfaceOperators> assemble_surface_operators(const Surface
     KU.setZero(3 * M, 3 * N);
     Matrix KLT = Matrix::Zero(3 * N, 3 * M), H = Matrix::Zero(3 * N, 3 * N);
     Matrix& V = out->V;
-    for_each_colour(colour_elements(g, 0, g.size()), [&](int b) {
+    for_each_colour(g, colour_elements(g, 0, g.size()), [&](int b) {
         const ElementGeometry& gb = g[b];
         PairBlocks blk;
         for (int a = 0; a <= b; ++a) {
@@ -291,7 +329,8 @@ std::shared_ptr<const CrackOperators> append_crack_elements(const SurfaceOperato
     grow_block(out->X, previous ? &previous->X : nullptr, 3 * Ns, 3 * Nc, 3 * Ns, 3 * Nc0);
     grow_block(out->HY, previous ? &previous->HY : nullptr, 3 * Nc, 3 * Nc, 3 * Nc0, 3 * Nc0);
     if (observer) observer->begin(out->geometry, old_tris);
-    for_each_colour(colour_elements(out->geometry, old_tris, out->geometry.size()), CrackElementColumns(surface, *out, observer));
+    for_each_colour(out->geometry, colour_elements(out->geometry, old_tris, out->geometry.size()),
+                    CrackElementColumns(surface, *out, observer));
     std::int64_t added = 0;
     for (std::size_t b = old_tris; b < out->geometry.size(); ++b)
         added += static_cast<std::int64_t>(Ms) + static_cast<std::int64_t>(b) + 1;

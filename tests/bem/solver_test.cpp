@@ -227,6 +227,33 @@ TEST(BemCracks, SquareRootCorrectionsMadeInTheAppendEqualIntegratedOnes) {
     }
 }
 
+// The append's element tasks run in colour order per node without a barrier between colours: the
+// blocks must not depend on how many threads run them (each column summed in one fixed order).
+TEST(BemCracks, AppendBitIdenticalForOneAndTwoThreads) {
+    const auto [o, bc] = pulled_cube();
+    const SurfaceMesh a = bem_disk_mesh(5, 1.5, Vec3(-2.2, 0, 0)), b = bem_disk_mesh(3, 1.0, Vec3(2.2, 0.3, 0));
+    std::shared_ptr<const CrackOperators> one, two;
+    for (int rings : {2, 4, 5}) {
+        const SurfaceMesh m = two_sheets(a, 3, rings, b);
+        TipCorrectionsOfAppend c1(*o, m), c2(*o, m);
+        {
+            tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+            one = append_crack_elements(*o, one, m, -1, &c1);
+        }
+        {
+            tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+            two = append_crack_elements(*o, two, m, -1, &c2);
+        }
+        EXPECT_TRUE(one->W.cwiseEqual(two->W).all()) << rings;
+        EXPECT_TRUE(one->X.cwiseEqual(two->X).all()) << rings;
+        EXPECT_TRUE(one->HY.cwiseEqual(two->HY).all()) << rings;
+        EXPECT_GT(one->HY.cwiseAbs().maxCoeff(), 0) << rings;
+        const auto t1 = tip_crack_operators(*o, *one, nullptr, &c1), t2 = tip_crack_operators(*o, *two, nullptr, &c2);
+        EXPECT_TRUE(t1->HY.cwiseEqual(t2->HY).all()) << rings;
+        EXPECT_TRUE(t1->W.cwiseEqual(t2->W).all()) << rings;
+    }
+}
+
 TEST(BemCracks, BadCrackInputsGiveClearErrors) {
     AssemblyOptions opt;
     opt.single_layer = false;
