@@ -821,8 +821,10 @@ void pair_correction(const std::vector<ElementGeometry>& gc, const TipBasis& bas
         }
 }
 
-std::shared_ptr<const TipCache::Pair> crack_pair(const std::vector<ElementGeometry>& gc, const TipBasis& basis, int a, int b,
-                                                 const ElasticConstants& ec, const TipRules& rules, const PairQuadrature& quad) {
+// Crack pair (a, b) owned by b, its P1 blocks integrated here.
+std::shared_ptr<const TipCache::Pair> integrated_pair_correction(const std::vector<ElementGeometry>& gc, const TipBasis& basis, int a,
+                                                                 int b, const ElasticConstants& ec, const TipRules& rules,
+                                                                 const PairQuadrature& quad) {
     auto c = std::make_shared<TipCache::Pair>();
     const int lo = std::min(a, b), hi = std::max(a, b);
     PairBlocks blk;
@@ -1139,19 +1141,26 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
     // Integrate the new ones in parallel, each into its own entry.
     std::vector<std::shared_ptr<const TipCache::Columns>> new_columns(fresh_columns.size());
     std::vector<std::shared_ptr<const TipCache::Pair>> new_pairs(fresh_pairs.size());
+    std::vector<char> in_append(fresh_columns.size() + fresh_pairs.size(), 0);  // taken from the append's observer
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fresh_columns.size() + fresh_pairs.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& rg) {
                           for (std::size_t i = rg.begin(); i != rg.end(); ++i) {
                               if (i < fresh_columns.size()) {
                                   const int b = fresh_columns[i];
-                                  if (from_append && (new_columns[i] = from_append->column(std::size_t(b)))) continue;
+                                  if (from_append && (new_columns[i] = from_append->column(std::size_t(b)))) {
+                                      in_append[i] = 1;
+                                      continue;
+                                  }
                                   new_columns[i] = surface_columns(surface, gc[b], basis.kind[b], rules, quad);
                               } else {
                                   const auto& ba = cache->pairs[fresh_pairs[i - fresh_columns.size()]].first;
                                   const auto [lo, hi] = std::minmax(ba.first, ba.second);
                                   std::shared_ptr<const TipCache::Pair>& slot = new_pairs[i - fresh_columns.size()];
-                                  if (from_append && (slot = from_append->pair(std::size_t(lo), std::size_t(hi)))) continue;
-                                  slot = crack_pair(gc, basis, ba.second, ba.first, surface.elastic, rules, quad);
+                                  if (from_append && (slot = from_append->pair(std::size_t(lo), std::size_t(hi)))) {
+                                      in_append[i] = 1;
+                                      continue;
+                                  }
+                                  slot = integrated_pair_correction(gc, basis, ba.second, ba.first, surface.elastic, rules, quad);
                               }
                           }
                       });
@@ -1203,14 +1212,8 @@ std::shared_ptr<const CrackOperators> tip_crack_operators(const SurfaceOperators
         }
     });
     out->tip_pairs_computed = static_cast<std::int64_t>(fresh_columns.size() * surface.geometry.size() + fresh_pairs.size());
-    if (from_append) {
-        for (int b : fresh_columns)
-            if (from_append->column(std::size_t(b))) out->tip_pairs_in_append += static_cast<std::int64_t>(surface.geometry.size());
-        for (std::size_t q : fresh_pairs) {
-            const auto [lo, hi] = std::minmax(cache->pairs[q].first.first, cache->pairs[q].first.second);
-            if (from_append->pair(std::size_t(lo), std::size_t(hi))) ++out->tip_pairs_in_append;
-        }
-    }
+    for (std::size_t i = 0; i < in_append.size(); ++i)
+        if (in_append[i]) out->tip_pairs_in_append += i < fresh_columns.size() ? static_cast<std::int64_t>(surface.geometry.size()) : 1;
     out->tip_pairs_reused = static_cast<std::int64_t>((touched.size() - fresh_columns.size()) * surface.geometry.size() +
                                                       (cache->pairs.size() - fresh_pairs.size()));
     out->tip_cache = cache;
